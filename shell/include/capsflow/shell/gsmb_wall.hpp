@@ -1,0 +1,92 @@
+#pragma once
+// GSMB capsule wall (paper §2.6, §4.1) discretised with MITC3 triangles (element.hpp).
+//
+// Unknowns besides the imposed positions x: one unit director d_i per node with a nodal tangent
+// triad (t1_i, t2_i, d_i); 2 rotation DOFs per node, increments w = w1 t1 + w2 t2 applied with
+// Rodrigues (exact for any angle). Reference directors: area-weighted nodal normals, or given.
+//
+// Rotation solve (paper Eq. 49b-53): Newton on R_theta(x, theta) = 0 at fixed x, each linear
+// system K_tt dw = -R_theta solved by CG with a 2x2 block-Jacobi preconditioner on the sparse
+// theta-theta tangent (pattern built once). K_tt = material part T^T (d2E/dd2) T (SPD) plus the
+// geometric part -(g_i.d_i) I_2 at each node when it is positive (otherwise dropped: modified
+// Newton; the residual is always exact). Warm start: the directors of the previous call.
+//
+// Convergence: max_i |R_theta,i| / K_ii <= newton_tol. This is the Jacobi estimate (in radians)
+// of the remaining Newton correction, i.e. the paper's criterion |theta_{i+1} - theta_i| < 1e-7
+// (Eq. 53) evaluated before the step. Default 1e-10: 1000x tighter than the paper because an
+// error in theta is amplified by h D in the load (numerics.md pitfall 5); with quadratic
+// convergence the extra cost is at most one Newton step.
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "capsflow/shell/pcg.hpp"
+#include "capsflow/shell/wall.hpp"
+
+namespace capsflow::shell {
+
+struct GsmbOptions {
+  double thickness = 0.03;   ///< h = alpha (in units of l)
+  double poisson = 0.5;      ///< nu of the bending/shear Hooke laws (paper: nu = nu_s)
+  double newton_tol = 1e-10; ///< max |R_theta|/K_diag (radians), see above
+  int max_newton = 20;
+  double cg_tol = 1e-6;      ///< relative residual of each Newton linear system (inexact Newton)
+  int max_cg = 2000;
+  bool geometric_tangent = true;  ///< add the non-negative part of -(g.d) I_2 to K_tt
+};
+
+class GsmbWall : public Wall {
+ public:
+  GsmbWall(const Points& X_ref, const Triangles& tri, MembraneLaw law, GsmbOptions opt);
+  /// Same with given reference unit directors (e.g. analytic normals).
+  GsmbWall(const Points& X_ref, const Triangles& tri, const Points& D_ref, MembraneLaw law,
+           GsmbOptions opt);
+
+  void forces(const Points& x, Points& R_s, WallStats* stats = nullptr) override;
+  WallEnergies energies(const Points& x) const override;
+  void nodal_energy_maps(const Points& x, Eigen::VectorXd& Em, Eigen::VectorXd& Eb,
+                         Eigen::VectorXd& Esh) const override;
+  /// [d (3N), t1 (3N), t2 (3N)] node by node.
+  Eigen::VectorXd state() const override;
+  void set_state(const Eigen::VectorXd& s) override;
+
+  // ---- lower-level access (tests, forward static mode, diagnostics) ----
+  /// Rotation solve only (positions fixed); leaves R_s of the final state in the internal buffer.
+  WallStats solve_rotations(const Points& x);
+  /// One element pass at the current directors: x-forces fx = dE/dx (all parts), rotation residual
+  /// R_theta (2N, in the nodal triads) and, if want_K, the theta-theta tangent (see tangent()).
+  void evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K);
+  /// Tangent of the last evaluate(want_K = true); include_geometric as in the options.
+  const SpMatR& tangent() const { return K_; }
+  /// Rotate the nodal triads by the increments w (2N: w1, w2 per node in (t1, t2)).
+  void rotate(const Eigen::VectorXd& w);
+  void set_directors(const Points& d);  ///< sets d (normalised) and rebuilds the triads
+  const Points& directors() const { return d_; }
+  const Points& reference_directors() const { return D_; }
+  const Points& t1() const { return t1_; }
+  const Points& t2() const { return t2_; }
+  /// Director forces g_i = dE/dd_i of the last evaluate() (directors as free vectors).
+  const Points& director_forces() const { return g_; }
+  const std::vector<ElementRef>& elements() const { return ref_; }
+  const Topology& topology() const { return topo_; }
+  const MembraneLaw& law() const { return law_; }
+  const GsmbOptions& options() const { return opt_; }
+  GsmbOptions& options() { return opt_; }
+
+ private:
+  void init(const Points& X, const Points& D);
+  void element_energies(const Points& x, std::vector<double>* em, std::vector<double>* eb,
+                        std::vector<double>* es) const;
+  MembraneLaw law_;
+  GsmbOptions opt_;
+  Topology topo_;
+  std::vector<ElementRef> ref_;
+  Points D_, d_, t1_, t2_;
+  Points fx_, g_;
+  SpMatR K_;
+  std::vector<int> row_base_, row_len2_;  // K value index of node-row i: 4*adj_ptr[i], 2*deg(i)
+  Eigen::VectorXd Rth_, dw_, kdiag_;
+  BlockPcg pcg_{2};
+  mutable std::vector<double> partial_;
+};
+
+}  // namespace capsflow::shell

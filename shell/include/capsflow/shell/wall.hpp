@@ -1,0 +1,59 @@
+#pragma once
+// Abstract capsule wall used by the time integrator, and the membrane-only wall.
+//
+// forces(x, R_s): nodal internal forces R_s = dE/dx at node positions x. For a GSMB wall the
+// rotations are first brought to equilibrium, R_theta(x, theta) = 0 (warm start from the
+// previous directors), so R_s is the total derivative of the wall energy. The load per deformed
+// area is q from M(x) q = R_s (see load_recovery.hpp); with v = v_inf - S[q] a pre-inflated
+// capsule shrinks (R_s, q point outward when the wall is stretched).
+#include <Eigen/Core>
+#include <vector>
+
+#include "capsflow/shell/element.hpp"
+#include "capsflow/shell/laws.hpp"
+#include "capsflow/shell/topology.hpp"
+#include "capsflow/shell/types.hpp"
+
+namespace capsflow::shell {
+
+class Wall {
+ public:
+  virtual ~Wall() = default;
+  virtual void forces(const Points& x, Points& R_s, WallStats* stats = nullptr) = 0;
+  virtual WallEnergies energies(const Points& x) const = 0;  ///< at the current directors
+  /// Nodal energy maps, paper Eq. (54)-(56): at node i, (sum over the elements e around i of the
+  /// element energy) / (sum of their reference areas), i.e. energy per reference area. The bending
+  /// and shear maps use the energy densities (h^3/24) C chi chi and (h/2) D zeta zeta (the 1/2 of a
+  /// quadratic energy; the paper's printed Eq. 55-56 omit it), so Eb/Em is a true energy ratio.
+  virtual void nodal_energy_maps(const Points& x, Eigen::VectorXd& Em, Eigen::VectorXd& Eb,
+                                 Eigen::VectorXd& Esh) const = 0;
+  /// Everything needed to restart bit-for-bit (GSMB: directors and triads; membrane: empty).
+  virtual Eigen::VectorXd state() const = 0;
+  virtual void set_state(const Eigen::VectorXd&) = 0;
+};
+
+/// Membrane-only wall (paper §2.3.3): no rotations; R_s = d/dx sum_e A0 W_s.
+class MembraneWall : public Wall {
+ public:
+  MembraneWall(const Points& X_ref, const Triangles& tri, MembraneLaw law);
+  void forces(const Points& x, Points& R_s, WallStats* stats = nullptr) override;
+  WallEnergies energies(const Points& x) const override;
+  void nodal_energy_maps(const Points& x, Eigen::VectorXd& Em, Eigen::VectorXd& Eb,
+                         Eigen::VectorXd& Esh) const override;
+  Eigen::VectorXd state() const override { return {}; }
+  void set_state(const Eigen::VectorXd&) override {}
+  const MembraneLaw& law() const { return law_; }
+  const Topology& topology() const { return topo_; }
+
+ private:
+  MembraneLaw law_;
+  Topology topo_;
+  std::vector<MembraneRef> ref_;
+  mutable std::vector<double> partial_;
+};
+
+/// Nodal average of element values (helper for the energy maps): out_i = sum_e v_e / sum_e A_e.
+void nodal_average(const Topology& topo, const std::vector<double>& elem_value,
+                   const std::vector<double>& elem_area, Eigen::VectorXd& out);
+
+}  // namespace capsflow::shell

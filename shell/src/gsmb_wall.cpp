@@ -1,0 +1,253 @@
+#include "capsflow/shell/gsmb_wall.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "capsflow/shell/director.hpp"
+#include "capsflow/shell/parallel.hpp"
+
+namespace capsflow::shell {
+
+GsmbWall::GsmbWall(const Points& X, const Triangles& tri, MembraneLaw law, GsmbOptions opt)
+    : law_(law), opt_(opt), topo_(tri, X.rows()) {
+  init(X, area_weighted_normals(X, tri));
+}
+
+GsmbWall::GsmbWall(const Points& X, const Triangles& tri, const Points& D, MembraneLaw law,
+                   GsmbOptions opt)
+    : law_(law), opt_(opt), topo_(tri, X.rows()) {
+  if (D.rows() != X.rows()) throw std::invalid_argument("GsmbWall: D_ref must have one row per node");
+  Points Dn = D;
+  for (Eigen::Index i = 0; i < Dn.rows(); ++i) Dn.row(i).normalize();
+  init(X, Dn);
+}
+
+void GsmbWall::init(const Points& X, const Points& D) {
+  if (!(opt_.thickness > 0)) throw std::invalid_argument("GsmbWall: thickness must be > 0");
+  const int n = topo_.n_nodes;
+  D_ = D;
+  const double G = law_.Gs() / opt_.thickness;
+  ref_.resize(topo_.n_elems);
+  for (int e = 0; e < topo_.n_elems; ++e) {
+    const auto& t = topo_.tri[e];
+    const Vec3 Xe[3] = {X.row(t[0]), X.row(t[1]), X.row(t[2])};
+    const Vec3 De[3] = {D.row(t[0]), D.row(t[1]), D.row(t[2])};
+    ref_[e] = make_element_ref(Xe, De, t, opt_.thickness, G, opt_.poisson);
+  }
+  set_directors(D_);
+  fx_.setZero(n, 3);
+  g_.setZero(n, 3);
+  Rth_.setZero(2 * n);
+  dw_.setZero(2 * n);
+  kdiag_.setZero(2 * n);
+  // theta-theta pattern: 2x2 blocks on the node adjacency
+  row_base_.resize(n);
+  row_len2_.resize(n);
+  std::vector<Eigen::Triplet<double, int>> trip;
+  trip.reserve(static_cast<size_t>(topo_.nnz_nodes()) * 4);
+  for (int i = 0; i < n; ++i) {
+    row_base_[i] = 4 * topo_.adj_ptr[i];
+    row_len2_[i] = 2 * (topo_.adj_ptr[i + 1] - topo_.adj_ptr[i]);
+    for (int k = 0; k < 2; ++k)
+      for (int p = topo_.adj_ptr[i]; p < topo_.adj_ptr[i + 1]; ++p)
+        for (int l = 0; l < 2; ++l) trip.emplace_back(2 * i + k, 2 * topo_.adj[p] + l, 0.0);
+  }
+  K_.resize(2 * n, 2 * n);
+  K_.setFromTriplets(trip.begin(), trip.end());
+  K_.makeCompressed();
+  for (int i = 0; i < n; ++i)
+    if (K_.outerIndexPtr()[2 * i] != row_base_[i] ||
+        K_.outerIndexPtr()[2 * i + 1] != row_base_[i] + row_len2_[i])
+      throw std::logic_error("GsmbWall: unexpected sparsity layout");
+}
+
+void GsmbWall::set_directors(const Points& d) {
+  const Eigen::Index n = d.rows();
+  d_.resize(n, 3);
+  t1_.resize(n, 3);
+  t2_.resize(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 di = d.row(i).normalized();
+    Vec3 a, b;
+    tangent_basis(di, a, b);
+    d_.row(i) = di;
+    t1_.row(i) = a;
+    t2_.row(i) = b;
+  }
+}
+
+void GsmbWall::rotate(const Eigen::VectorXd& w) {
+  const int n = topo_.n_nodes;
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (int i = 0; i < n; ++i) {
+    const Vec3 a = t1_.row(i), b = t2_.row(i), d = d_.row(i);
+    const Vec3 om = w[2 * i] * a + w[2 * i + 1] * b;
+    Vec3 dn = rodrigues(om, d).normalized();
+    Vec3 an = rodrigues(om, a);
+    an = (an - an.dot(dn) * dn).normalized();  // keep the triad orthonormal to round-off
+    d_.row(i) = dn;
+    t1_.row(i) = an;
+    t2_.row(i) = dn.cross(an);
+  }
+}
+
+void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K) {
+  const int n = topo_.n_nodes;
+  if (x.rows() != n) throw std::invalid_argument("GsmbWall: x has the wrong number of rows");
+  fx_.setZero();
+  g_.setZero();
+  double* Kv = K_.valuePtr();
+  if (want_K) std::fill(Kv, Kv + K_.nonZeros(), 0.0);
+  for (const auto& col : topo_.colors) {
+    const int ne = static_cast<int>(col.size());
+#pragma omp parallel for schedule(static) if (ne > 256)
+    for (int k = 0; k < ne; ++k) {
+      const int e = col[k];
+      const ElementRef& R = ref_[e];
+      const auto& nd = R.m.n;
+      const Vec3 xe[3] = {x.row(nd[0]), x.row(nd[1]), x.row(nd[2])};
+      const Vec3 de[3] = {d_.row(nd[0]), d_.row(nd[1]), d_.row(nd[2])};
+      Vec3 T[3][2];
+      for (int a = 0; a < 3; ++a) {
+        T[a][0] = -t2_.row(nd[a]).transpose();
+        T[a][1] = t1_.row(nd[a]).transpose();
+      }
+      Vec3 fm[3];
+      membrane_element(R.m, law_, xe, fm);
+      BsOut o;
+      bs_element(R, xe, de, T, o, want_K);
+      for (int a = 0; a < 3; ++a) {
+        fx_.row(nd[a]) += (fm[a] + o.fx[a]).transpose();
+        g_.row(nd[a]) += o.g[a].transpose();
+      }
+      if (want_K) {
+        const auto& pp = topo_.pair_pos[e];
+        for (int a = 0; a < 3; ++a) {
+          const int i = nd[a];
+          for (int b = 0; b < 3; ++b) {
+            const int pos = 2 * pp[a * 3 + b];
+            for (int kk = 0; kk < 2; ++kk) {
+              double* rowp = Kv + row_base_[i] + kk * row_len2_[i] + pos;
+              rowp[0] += o.K[2 * a + kk][2 * b];
+              rowp[1] += o.K[2 * a + kk][2 * b + 1];
+            }
+          }
+        }
+      }
+    }
+  }
+  // nodal residual and geometric term
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (int i = 0; i < n; ++i) {
+    const Vec3 gi = g_.row(i);
+    Rth_[2 * i] = -t2_.row(i).dot(gi);
+    Rth_[2 * i + 1] = t1_.row(i).dot(gi);
+    if (want_K) {
+      const int dp = row_base_[i] + 2 * topo_.diag_pos[i];
+      if (opt_.geometric_tangent) {
+        const double c = std::max(0.0, -gi.dot(d_.row(i)));
+        Kv[dp] += c;
+        Kv[dp + row_len2_[i] + 1] += c;
+      }
+      kdiag_[2 * i] = Kv[dp];
+      kdiag_[2 * i + 1] = Kv[dp + row_len2_[i] + 1];
+    }
+  }
+  if (fx) *fx = fx_;
+  if (R_theta) *R_theta = Rth_;
+}
+
+WallStats GsmbWall::solve_rotations(const Points& x) {
+  WallStats st;
+  const int n2 = 2 * topo_.n_nodes;
+  for (int it = 0;; ++it) {
+    evaluate(x, nullptr, nullptr, true);
+    double res = 0;
+    for (int i = 0; i < n2; ++i) res = std::max(res, std::abs(Rth_[i]) / kdiag_[i]);
+    st.residual = res;
+    if (res <= opt_.newton_tol) break;
+    if (it >= opt_.max_newton) {
+      st.converged = false;
+      break;
+    }
+    Rth_ = -Rth_;
+    double rr = 0;
+    st.cg_iterations += pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
+    rotate(dw_);
+    ++st.newton_iterations;
+  }
+  return st;
+}
+
+void GsmbWall::forces(const Points& x, Points& R_s, WallStats* stats) {
+  const WallStats st = solve_rotations(x);
+  if (R_s.rows() != x.rows()) R_s.resize(x.rows(), 3);
+  R_s = fx_;
+  if (stats) *stats = st;
+}
+
+void GsmbWall::element_energies(const Points& x, std::vector<double>* em, std::vector<double>* eb,
+                                std::vector<double>* es) const {
+  const int ne = topo_.n_elems;
+#pragma omp parallel for schedule(static)
+  for (int e = 0; e < ne; ++e) {
+    const ElementRef& R = ref_[e];
+    const auto& nd = R.m.n;
+    const Vec3 xe[3] = {x.row(nd[0]), x.row(nd[1]), x.row(nd[2])};
+    const Vec3 de[3] = {d_.row(nd[0]), d_.row(nd[1]), d_.row(nd[2])};
+    Vec3 fm[3];
+    const Vec3 T[3][2] = {};
+    BsOut o;
+    const double wm = membrane_element(R.m, law_, xe, fm);
+    bs_element(R, xe, de, T, o, false);
+    (*em)[e] = wm;
+    (*eb)[e] = o.Eb;
+    (*es)[e] = o.Es;
+  }
+}
+
+WallEnergies GsmbWall::energies(const Points& x) const {
+  std::vector<double> em(topo_.n_elems), eb(topo_.n_elems), es(topo_.n_elems);
+  element_energies(x, &em, &eb, &es);
+  WallEnergies E;
+  E.membrane = par::det_sum(topo_.n_elems, partial_, [&](long e) { return em[e]; });
+  E.bending = par::det_sum(topo_.n_elems, partial_, [&](long e) { return eb[e]; });
+  E.shear = par::det_sum(topo_.n_elems, partial_, [&](long e) { return es[e]; });
+  return E;
+}
+
+void GsmbWall::nodal_energy_maps(const Points& x, Eigen::VectorXd& Em, Eigen::VectorXd& Eb,
+                                 Eigen::VectorXd& Esh) const {
+  std::vector<double> em(topo_.n_elems), eb(topo_.n_elems), es(topo_.n_elems), A(topo_.n_elems);
+  element_energies(x, &em, &eb, &es);
+  for (int e = 0; e < topo_.n_elems; ++e) A[e] = ref_[e].m.A0;
+  nodal_average(topo_, em, A, Em);
+  nodal_average(topo_, eb, A, Eb);
+  nodal_average(topo_, es, A, Esh);
+}
+
+Eigen::VectorXd GsmbWall::state() const {
+  const int n = topo_.n_nodes;
+  Eigen::VectorXd s(9 * n);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      s[3 * i + k] = d_(i, k);
+      s[3 * n + 3 * i + k] = t1_(i, k);
+      s[6 * n + 3 * i + k] = t2_(i, k);
+    }
+  return s;
+}
+
+void GsmbWall::set_state(const Eigen::VectorXd& s) {
+  const int n = topo_.n_nodes;
+  if (s.size() != 9 * n) throw std::invalid_argument("GsmbWall::set_state: wrong size");
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      d_(i, k) = s[3 * i + k];
+      t1_(i, k) = s[3 * n + 3 * i + k];
+      t2_(i, k) = s[6 * n + 3 * i + k];
+    }
+}
+
+}  // namespace capsflow::shell
