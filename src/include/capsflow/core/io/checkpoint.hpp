@@ -1,0 +1,61 @@
+#pragma once
+// Full-state checkpoints for `--restart` (design.md §4 Checkpoints, style.md B.3).
+//
+// write_checkpoint writes `<path>.tmp.<pid>`, fsyncs it, renames the current `<path>` (if any) to
+// its previous slot (checkpoint.h5 → checkpoint.prev.h5), renames the temporary to `<path>` and
+// fsyncs the folder. Whenever the run is killed, at least one complete, valid checkpoint exists:
+// the new one, the previous one, or (between the two renames) the previous one in its slot;
+// find_latest_checkpoint picks the right one.
+//
+// File layout (HDF5, format_version 1):
+//   attributes on "/": format = "capsflow-checkpoint", format_version, step, t, dt, version
+//   datasets: positions [N,3], reference_positions [N,3], triangles int32 [M,3],
+//             wall_state [n] (opaque), history [r,c] (opaque), scene_toml, scene_resolved,
+//             extra (strings)
+// Doubles are stored as float64 and read back bit for bit.
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "capsflow/core/types.hpp"
+
+namespace capsflow::io {
+
+inline constexpr std::int64_t kCheckpointFormatVersion = 1;
+inline constexpr const char* kCheckpointFile = "checkpoint.h5";
+
+struct CheckpointState {
+  std::int64_t step = 0;  // time steps taken so far
+  double t = 0;
+  double dt = 0;
+  Points positions;            // N×3, current
+  Points reference_positions;  // N×3, stress-free
+  Triangles triangles;         // M×3, indices into the nodes
+  Eigen::VectorXd wall_state;  // opaque to io (e.g. nodal directors); any length, may be empty
+  Eigen::MatrixXd history;     // opaque to io (e.g. steady-state window samples); may be empty
+  std::string scene_toml;      // the input scene, verbatim
+  std::string scene_resolved;  // the fully resolved scene, JSON text
+  std::string version;         // capsflow version + git hash that wrote it
+  std::string extra;           // opaque integrator state (JSON text: next output time, ...)
+};
+
+// "checkpoint.h5" → "checkpoint.prev.h5" (same folder).
+std::filesystem::path previous_checkpoint_path(const std::filesystem::path& path);
+
+// Validates `state` (a checkpoint of a blown-up state would push the last good one out of the
+// rotation), then writes it atomically as described above. Throws std::runtime_error.
+void write_checkpoint(const std::filesystem::path& path, const CheckpointState& state);
+
+// Reads and validates (format and version, dataset shapes, index ranges, finite numbers).
+// Throws std::runtime_error with one line: "checkpoint '<path>': <problem>".
+CheckpointState read_checkpoint(const std::filesystem::path& path);
+
+// Throws std::runtime_error "checkpoint '<name>': <problem>" if `state` is inconsistent.
+void validate_checkpoint(const CheckpointState& state, const std::string& name);
+
+// The newest valid checkpoint in `folder`: checkpoint.h5, else checkpoint.prev.h5 (the write was
+// interrupted between its two renames, or the newest file is damaged). Throws if neither reads.
+std::filesystem::path find_latest_checkpoint(const std::filesystem::path& folder);
+
+}  // namespace capsflow::io

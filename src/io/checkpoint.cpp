@@ -1,0 +1,164 @@
+// Full-state checkpoints (see checkpoint.hpp).
+#include "capsflow/core/io/checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <system_error>
+
+#include "capsflow/core/io/atomic_file.hpp"
+#include "capsflow/core/io/h5.hpp"
+
+namespace capsflow::io {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kFormatName = "capsflow-checkpoint";
+
+[[noreturn]] void fail(const std::string& name, const std::string& problem) {
+  throw std::runtime_error("checkpoint '" + name + "': " + problem);
+}
+
+template <typename Derived>
+bool all_finite(const Eigen::DenseBase<Derived>& m) {
+  return m.size() == 0 || m.derived().array().isFinite().all();
+}
+
+void write_file(const fs::path& tmp, const CheckpointState& s) {
+  h5::File f = h5::File::create(tmp);
+  f.set_attribute("format", kFormatName);
+  f.set_attribute("format_version", kCheckpointFormatVersion);
+  f.set_attribute("step", s.step);
+  f.set_attribute("t", s.t);
+  f.set_attribute("dt", s.dt);
+  f.set_attribute("version", s.version);
+  f.write_matrix("positions", s.positions);
+  f.write_matrix("reference_positions", s.reference_positions);
+  f.write_matrix("triangles", s.triangles);
+  f.write_vector("wall_state", s.wall_state);
+  f.write_matrix("history", s.history);
+  f.write_string("scene_toml", s.scene_toml);
+  f.write_string("scene_resolved", s.scene_resolved);
+  f.write_string("extra", s.extra);
+  f.close();
+}
+
+}  // namespace
+
+fs::path previous_checkpoint_path(const fs::path& path) {
+  fs::path prev = path;
+  prev.replace_extension();  // checkpoint.h5 → checkpoint
+  prev += ".prev";
+  prev += path.extension();
+  return prev;
+}
+
+void validate_checkpoint(const CheckpointState& s, const std::string& name) {
+  const Eigen::Index n = s.positions.rows();
+  if (n == 0) fail(name, "no nodes");
+  if (s.reference_positions.rows() != n) {
+    fail(name, fmt::format("reference_positions has {} rows, positions has {}",
+                           s.reference_positions.rows(), n));
+  }
+  if (s.triangles.rows() == 0) fail(name, "no triangles");
+  if (s.triangles.size() > 0 && (s.triangles.minCoeff() < 0 || s.triangles.maxCoeff() >= n)) {
+    fail(name, fmt::format("triangle indices outside [0, {})", n));
+  }
+  if (s.step < 0) fail(name, fmt::format("negative step {}", s.step));
+  if (!std::isfinite(s.t)) fail(name, "t is not finite");
+  if (!std::isfinite(s.dt) || !(s.dt > 0)) fail(name, fmt::format("dt = {} is not positive", s.dt));
+  if (!all_finite(s.positions)) fail(name, "positions contain NaN or infinity");
+  if (!all_finite(s.reference_positions)) fail(name, "reference_positions contain NaN or infinity");
+  if (!all_finite(s.wall_state)) fail(name, "wall_state contains NaN or infinity");
+  if (!all_finite(s.history)) fail(name, "history contains NaN or infinity");
+}
+
+void write_checkpoint(const fs::path& path, const CheckpointState& state) {
+  validate_checkpoint(state, path.string());
+  const fs::path tmp = temporary_sibling(path);
+  try {
+    write_file(tmp, state);
+    fsync_path(tmp);
+    std::error_code ec;
+    if (fs::exists(path, ec)) rename_durably(path, previous_checkpoint_path(path));
+    rename_durably(tmp, path);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);  // best effort; the error being thrown is what matters
+    throw;
+  }
+}
+
+CheckpointState read_checkpoint(const fs::path& path) {
+  const std::string name = path.string();
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail(name, "no such file");
+  std::optional<h5::File> file;
+  try {
+    file.emplace(h5::File::open(path, h5::File::Mode::read_only));
+  } catch (const std::exception& e) {
+    // e.what() starts "HDF5: cannot open file '<path>': <reason>"; keep only the reason.
+    std::string why = e.what();
+    const std::size_t colon = why.rfind("': ");
+    if (colon != std::string::npos) why = why.substr(colon + 3);
+    fail(name, "not a readable HDF5 file (truncated or corrupt?): " + why);
+  }
+  h5::File& f = *file;
+  CheckpointState s;
+  try {
+    if (!f.has_attribute("format") || f.attribute_string("format") != kFormatName) {
+      fail(name, "not a capsflow checkpoint (attribute 'format' missing or wrong)");
+    }
+    const std::int64_t version = f.attribute_int("format_version");
+    if (version != kCheckpointFormatVersion) {
+      fail(name, fmt::format("format version {} is not supported (this build reads version {})",
+                             version, kCheckpointFormatVersion));
+    }
+    s.step = f.attribute_int("step");
+    s.t = f.attribute_double("t");
+    s.dt = f.attribute_double("dt");
+    s.version = f.attribute_string("version");
+    const h5::RowMatrixXd x = f.read_matrix<double>("positions");
+    const h5::RowMatrixXd x0 = f.read_matrix<double>("reference_positions");
+    const h5::RowMatrixXi tri = f.read_matrix<int>("triangles");
+    if (x.cols() != 3) fail(name, fmt::format("positions has {} columns, expected 3", x.cols()));
+    if (x0.cols() != 3) {
+      fail(name, fmt::format("reference_positions has {} columns, expected 3", x0.cols()));
+    }
+    if (tri.cols() != 3) fail(name, fmt::format("triangles has {} columns, expected 3", tri.cols()));
+    s.positions = x;
+    s.reference_positions = x0;
+    s.triangles = tri;
+    s.wall_state = f.read_vector<double>("wall_state");
+    s.history = f.read_matrix<double>("history");
+    s.scene_toml = f.read_string("scene_toml");
+    s.scene_resolved = f.read_string("scene_resolved");
+    s.extra = f.read_string("extra");
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    if (what.rfind("checkpoint '", 0) == 0) throw;
+    fail(name, what);  // an HDF5 read error: missing dataset, wrong type, damaged data
+  }
+  validate_checkpoint(s, name);
+  return s;
+}
+
+fs::path find_latest_checkpoint(const fs::path& folder) {
+  const fs::path latest = folder / kCheckpointFile;
+  const fs::path prev = previous_checkpoint_path(latest);
+  std::string why;
+  for (const fs::path& p : {latest, prev}) {
+    try {
+      read_checkpoint(p);
+      return p;
+    } catch (const std::runtime_error& e) {
+      why += (why.empty() ? "" : "; ") + std::string(e.what());
+    }
+  }
+  throw std::runtime_error("no usable checkpoint in '" + folder.string() + "': " + why);
+}
+
+}  // namespace capsflow::io

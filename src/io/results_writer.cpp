@@ -1,0 +1,244 @@
+// The run's output: run.h5, run.xmf, timeseries.csv, summary.json (see results_writer.hpp).
+#include "capsflow/core/io/results_writer.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <set>
+#include <stdexcept>
+
+#include "capsflow/core/io/atomic_file.hpp"
+#include "capsflow/core/io/h5.hpp"
+
+namespace capsflow::io {
+namespace fs = std::filesystem;
+
+struct ResultsWriter::State {
+  fs::path folder;
+  Eigen::Index num_nodes = 0;
+  Eigen::Index num_triangles = 0;
+  std::vector<XdmfStep> steps;  // in time order; mirrors /steps in run.h5
+  std::int64_t next_index = 0;  // k of the next /steps/<k>
+  std::optional<TimeseriesCsv> csv;  // opened on the first row
+
+  fs::path h5_path() const { return folder / kRunH5; }
+};
+
+namespace {
+
+std::string step_group(std::int64_t k) { return fmt::format("/steps/{:06d}", k); }
+
+// HDF5 link names cannot contain '/', and "." is the object itself.
+std::string link_name(std::string key) {
+  std::replace(key.begin(), key.end(), '/', '_');
+  return key.empty() || key == "." ? "_" : key;
+}
+
+void write_metadata(h5::Group& g, const nlohmann::json& metadata) {
+  if (!metadata.is_object()) {
+    throw std::invalid_argument("output metadata must be a JSON object, got " +
+                                std::string(metadata.type_name()));
+  }
+  for (const auto& [key, value] : metadata.items()) {
+    const std::string name = link_name(key);
+    if (value.is_string()) {
+      g.write_string(name, value.get<std::string>());
+    } else if (value.is_boolean()) {
+      g.set_attribute(name, std::int64_t(value.get<bool>() ? 1 : 0));
+    } else if (value.is_number_integer()) {
+      g.set_attribute(name, value.get<std::int64_t>());
+    } else if (value.is_number_float()) {
+      g.set_attribute(name, value.get<double>());
+    } else {
+      g.write_string(name, value.dump(2));
+    }
+  }
+}
+
+// Numeric leaves of a JSON tree as float64 attributes named by their dotted key path.
+void flatten_numbers(h5::Group& g, const nlohmann::json& j, const std::string& prefix) {
+  if (j.is_number()) {
+    g.set_attribute(prefix.empty() ? "value" : prefix, j.get<double>());
+  } else if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) {
+      flatten_numbers(g, value, prefix.empty() ? key : prefix + "." + key);
+    }
+  }
+}
+
+}  // namespace
+
+ResultsWriter::ResultsWriter(std::unique_ptr<State> s) : s_(std::move(s)) {}
+ResultsWriter::ResultsWriter(ResultsWriter&&) noexcept = default;
+ResultsWriter& ResultsWriter::operator=(ResultsWriter&&) noexcept = default;
+ResultsWriter::~ResultsWriter() = default;
+
+ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
+                             const nlohmann::json& metadata)
+    : s_(std::make_unique<State>()) {
+  s_->folder = std::move(folder);
+  s_->num_nodes = reference_mesh.num_nodes();
+  s_->num_triangles = reference_mesh.num_elements();
+  if (s_->num_nodes == 0 || s_->num_triangles == 0) {
+    throw std::invalid_argument("ResultsWriter: the reference mesh is empty");
+  }
+  // Written to a temporary and renamed, so a crash here never leaves a half-made run.h5.
+  replace_file_atomically(s_->h5_path(), [&](const fs::path& tmp) {
+    h5::File f = h5::File::create(tmp);
+    f.write_matrix("mesh/triangles", reference_mesh.triangles);
+    f.write_matrix("mesh/reference_positions", reference_mesh.vertices);
+    h5::Group meta = f.create_group("metadata");
+    write_metadata(meta, metadata);
+    meta.set_attribute("schema_version", kOutputSchemaVersion);
+    meta.set_attribute("hdf5_version", h5::library_version());
+    f.create_group("steps");
+    f.close();
+  });
+  rewrite_xdmf();  // an empty collection: ParaView can open the file from the start
+}
+
+ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
+                                    const nlohmann::json& metadata) {
+  auto s = std::make_unique<State>();
+  s->folder = std::move(folder);
+  {
+    h5::File f = h5::File::open(s->h5_path(), h5::File::Mode::read_write, true);
+    const std::vector<hsize_t> tri = f.shape("mesh/triangles");
+    const std::vector<hsize_t> ref = f.shape("mesh/reference_positions");
+    if (tri.size() != 2 || tri[1] != 3 || ref.size() != 2 || ref[1] != 3) {
+      throw std::runtime_error("'" + s->h5_path().string() +
+                               "' is not a capsflow run file: /mesh has unexpected shapes");
+    }
+    s->num_triangles = Eigen::Index(tri[0]);
+    s->num_nodes = Eigen::Index(ref[0]);
+
+    // Rebuild the step list from the file; drop the steps after the restart time.
+    std::vector<std::pair<std::int64_t, XdmfStep>> found;
+    {
+    h5::Group steps = f.require_group("steps");
+    for (const std::string& name : steps.children()) {
+      if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) {
+        throw std::runtime_error("'" + s->h5_path().string() + "': unexpected group /steps/" +
+                                 name + " (not written by capsflow?)");
+      }
+      h5::Group g = steps.open_group(name);
+      const std::int64_t k = std::stoll(name);
+      const double t = g.attribute_double("time");
+      if (!(t <= t_restart)) {
+        steps.remove(name);
+        continue;
+      }
+      XdmfStep st{t, step_group(k), {}};
+      for (const std::string& field : g.children()) {
+        if (field == "positions") continue;
+        const std::vector<hsize_t> dims = g.shape(field);
+        const int comps = dims.size() == 1 ? 1 : int(dims[1]);
+        st.fields.push_back({field, comps, !dims.empty() && Eigen::Index(dims[0]) != s->num_nodes});
+      }
+      found.emplace_back(k, std::move(st));
+    }
+    }
+    std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (auto& [k, st] : found) {
+      s->steps.push_back(std::move(st));
+      s->next_index = k + 1;
+    }
+    if (!metadata.empty()) {
+      h5::Group restarts = f.require_group("metadata/restarts");
+      h5::Group r = restarts.create_group(std::to_string(restarts.children().size()));
+      write_metadata(r, metadata);
+      r.set_attribute("t_restart", t_restart);
+    }
+    f.close();
+  }
+  ResultsWriter w(std::move(s));
+  w.rewrite_xdmf();
+  TimeseriesCsv::truncate_after(w.s_->folder / kTimeseriesCsv, t_restart);
+  return w;
+}
+
+void ResultsWriter::write_step(double t, const Points& positions, const NamedFields& nodal_fields) {
+  State& s = *s_;
+  if (!s.steps.empty() && !(t > s.steps.back().time)) {
+    throw std::invalid_argument(fmt::format(
+        "write_step: time {} is not after the last output time {}", t, s.steps.back().time));
+  }
+  if (positions.rows() != s.num_nodes) {
+    throw std::invalid_argument(fmt::format("write_step: positions have {} rows, the mesh has {} nodes",
+                                            positions.rows(), s.num_nodes));
+  }
+  std::set<std::string> seen;
+  XdmfStep st{t, step_group(s.next_index), {}};
+  for (const auto& [name, values] : nodal_fields) {
+    if (name.empty() || name == "positions" || name.find_first_of("/.<>&\"'") != std::string::npos ||
+        !seen.insert(name).second) {
+      throw std::invalid_argument("write_step: bad or duplicate field name '" + name + "'");
+    }
+    const Eigen::Index c = values.cols();
+    if (values.rows() != s.num_nodes || (c != 1 && c != 3 && c != 6 && c != 9)) {
+      throw std::invalid_argument(fmt::format(
+          "write_step: field '{}' is {}x{}; expected {} rows and 1, 3, 6 or 9 columns", name,
+          values.rows(), c, s.num_nodes));
+    }
+    st.fields.push_back({name, int(c), false});
+  }
+
+  {
+    h5::File f = h5::File::open(s.h5_path(), h5::File::Mode::read_write, true);
+    if (f.exists(st.group)) f.remove(st.group);  // left over by an earlier failed attempt
+    {
+      h5::Group g = f.create_group(st.group);
+      g.write_matrix("positions", positions);
+      for (const auto& [name, values] : nodal_fields) {
+        if (values.cols() == 1) {
+          g.write_vector(name, values.col(0));
+        } else {
+          g.write_matrix(name, values);
+        }
+      }
+      g.set_attribute("time", t);
+    }
+    f.close();  // all object handles are closed above, so the file is really closed here
+  }
+  s.steps.push_back(std::move(st));
+  ++s.next_index;
+  rewrite_xdmf();
+}
+
+void ResultsWriter::append_row(const CsvRow& row) {
+  if (!s_->csv) s_->csv.emplace(s_->folder / kTimeseriesCsv);
+  s_->csv->append_row(row);
+}
+
+void ResultsWriter::write_summary(const nlohmann::json& summary) {
+  write_file_atomically(s_->folder / kSummaryJson, summary.dump(2) + "\n");
+}
+
+void ResultsWriter::write_timings(const nlohmann::json& table) {
+  h5::File f = h5::File::open(s_->h5_path(), h5::File::Mode::read_write, true);
+  if (f.exists("timing")) f.remove("timing");
+  {
+    h5::Group g = f.create_group("timing");
+    g.write_string("json", table.dump(2));
+    flatten_numbers(g, table, "");
+  }
+  f.close();
+}
+
+void ResultsWriter::rewrite_xdmf() const {
+  write_file_atomically(s_->folder / kRunXdmf,
+                        render_xdmf(kRunH5, s_->num_nodes, s_->num_triangles, s_->steps));
+}
+
+const fs::path& ResultsWriter::folder() const { return s_->folder; }
+std::size_t ResultsWriter::num_steps() const { return s_->steps.size(); }
+double ResultsWriter::last_time() const {
+  return s_->steps.empty() ? -std::numeric_limits<double>::infinity() : s_->steps.back().time;
+}
+Eigen::Index ResultsWriter::num_nodes() const { return s_->num_nodes; }
+Eigen::Index ResultsWriter::num_triangles() const { return s_->num_triangles; }
+
+}  // namespace capsflow::io

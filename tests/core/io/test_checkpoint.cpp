@@ -1,0 +1,165 @@
+// Checkpoints: bit-exact round trip, two-slot rotation, validation and damaged files.
+#include "capsflow/core/io/checkpoint.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "capsflow/core/io/h5.hpp"
+#include "temp_dir.hpp"
+
+namespace capsflow::io {
+namespace {
+using testing::listing;
+using testing::TempDir;
+
+CheckpointState sample_state(double seed) {
+  std::srand(unsigned(seed * 1000));
+  CheckpointState s;
+  s.step = 123456789012;  // beyond 32 bits
+  s.t = 0.1 + seed;
+  s.dt = 1e-4 / 3;  // not a short decimal: exercises exact storage
+  s.positions = Points::Random(6, 3);
+  s.reference_positions = Points::Random(6, 3);
+  s.triangles.resize(8, 3);
+  s.triangles << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1, 5, 2, 1, 5, 3, 2, 5, 4, 3, 5, 1, 4;
+  s.wall_state = Eigen::VectorXd::Random(12);
+  s.history = Eigen::MatrixXd::Random(7, 2);
+  s.scene_toml = "# ünïcode comment\n[time]\ndt = 1e-4\n";
+  s.scene_resolved = R"({"time": {"dt": 0.0001}})";
+  s.version = "capsflow 0.1.0 (abc1234-dirty)";
+  s.extra = R"({"next_output_t": 0.2})";
+  return s;
+}
+
+void expect_identical(const CheckpointState& a, const CheckpointState& b) {
+  // Exact (bit-for-bit) comparisons: a restart must reproduce an uninterrupted run.
+  EXPECT_EQ(a.step, b.step);
+  EXPECT_EQ(std::memcmp(&a.t, &b.t, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&a.dt, &b.dt, sizeof(double)), 0);
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_EQ(a.reference_positions, b.reference_positions);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.wall_state, b.wall_state);
+  EXPECT_EQ(a.history, b.history);
+  EXPECT_EQ(a.scene_toml, b.scene_toml);
+  EXPECT_EQ(a.scene_resolved, b.scene_resolved);
+  EXPECT_EQ(a.version, b.version);
+  EXPECT_EQ(a.extra, b.extra);
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(Checkpoint, RoundTripIsBitForBit) {
+  TempDir dir;
+  const CheckpointState s = sample_state(0.5);
+  write_checkpoint(dir / "checkpoint.h5", s);
+  expect_identical(read_checkpoint(dir / "checkpoint.h5"), s);
+  EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"checkpoint.h5"});  // no temporary
+}
+
+TEST(Checkpoint, EmptyOpaqueParts) {
+  TempDir dir;
+  CheckpointState s = sample_state(0.5);
+  s.wall_state.resize(0);  // membrane model: no wall state
+  s.history.resize(0, 0);
+  s.extra.clear();
+  write_checkpoint(dir / "checkpoint.h5", s);
+  expect_identical(read_checkpoint(dir / "checkpoint.h5"), s);
+}
+
+TEST(Checkpoint, PreviousCheckpointIsKept) {
+  TempDir dir;
+  const auto path = dir / "checkpoint.h5";
+  EXPECT_EQ(previous_checkpoint_path(path), dir / "checkpoint.prev.h5");
+  write_checkpoint(path, sample_state(1));
+  write_checkpoint(path, sample_state(2));
+  EXPECT_EQ(read_checkpoint(path).t, sample_state(2).t);  // exact: same double
+  EXPECT_EQ(read_checkpoint(dir / "checkpoint.prev.h5").t, sample_state(1).t);
+  EXPECT_EQ(listing(dir.path()), (std::vector<std::string>{"checkpoint.h5", "checkpoint.prev.h5"}));
+  EXPECT_EQ(find_latest_checkpoint(dir.path()), path);
+}
+
+TEST(Checkpoint, TruncatedFileIsRejectedNamingTheFile) {
+  TempDir dir;
+  const auto path = dir / "checkpoint.h5";
+  write_checkpoint(path, sample_state(1));
+  write_checkpoint(path, sample_state(2));
+  std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);  // killed mid-copy
+  const std::string msg = error_of([&] { read_checkpoint(path); });
+  EXPECT_EQ(msg.rfind("checkpoint '" + path.string() + "': ", 0), 0u) << msg;  // names the file
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;                         // one line
+  // --resume falls back to the previous slot.
+  EXPECT_EQ(find_latest_checkpoint(dir.path()), dir / "checkpoint.prev.h5");
+}
+
+TEST(Checkpoint, GarbageAndForeignFilesAreRejected) {
+  TempDir dir;
+  testing::write_text(dir / "garbage.h5", std::string(4096, 'x'));
+  EXPECT_NE(error_of([&] { read_checkpoint(dir / "garbage.h5"); }).find("not a readable HDF5 file"),
+            std::string::npos);
+  { h5::File::create(dir / "run.h5").write_vector("v", Eigen::VectorXd::Zero(1)); }
+  EXPECT_NE(error_of([&] { read_checkpoint(dir / "run.h5"); }).find("not a capsflow checkpoint"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { read_checkpoint(dir / "absent.h5"); }).find("no such file"),
+            std::string::npos);
+  EXPECT_THROW(find_latest_checkpoint(dir.path()), std::runtime_error);  // neither slot exists
+}
+
+TEST(Checkpoint, NewerFormatAndInconsistentShapesAreRejected) {
+  TempDir dir;
+  const auto path = dir / "checkpoint.h5";
+  write_checkpoint(path, sample_state(1));
+  {
+    h5::File f = h5::File::open(path, h5::File::Mode::read_write);
+    f.set_attribute("format_version", std::int64_t{2});
+  }
+  EXPECT_NE(error_of([&] { read_checkpoint(path); }).find("format version 2 is not supported"),
+            std::string::npos);
+
+  write_checkpoint(path, sample_state(1));
+  {
+    h5::File f = h5::File::open(path, h5::File::Mode::read_write);
+    f.write_matrix("reference_positions", Points::Zero(5, 3));  // N = 6 elsewhere
+  }
+  EXPECT_NE(error_of([&] { read_checkpoint(path); })
+                .find("reference_positions has 5 rows, positions has 6"),
+            std::string::npos);
+
+  write_checkpoint(path, sample_state(1));
+  {
+    h5::File f = h5::File::open(path, h5::File::Mode::read_write);
+    h5::RowMatrixXd x = f.read_matrix<double>("positions");
+    x(2, 1) = std::nan("");
+    f.write_matrix("positions", x);
+    f.remove("extra");
+  }
+  const std::string msg = error_of([&] { read_checkpoint(path); });
+  EXPECT_EQ(msg.rfind("checkpoint '" + path.string() + "': ", 0), 0u) << msg;
+  EXPECT_NE(msg.find("extra"), std::string::npos) << msg;  // the missing dataset is named
+}
+
+TEST(Checkpoint, NonFiniteStateIsNotWrittenAndKeepsTheLastGoodOne) {
+  TempDir dir;
+  const auto path = dir / "checkpoint.h5";
+  write_checkpoint(path, sample_state(1));
+  CheckpointState bad = sample_state(2);
+  bad.positions(3, 0) = INFINITY;
+  EXPECT_NE(error_of([&] { write_checkpoint(path, bad); }).find("positions contain NaN or infinity"),
+            std::string::npos);
+  bad = sample_state(2);
+  bad.triangles(0, 0) = 6;  // N = 6: out of range
+  EXPECT_THROW(write_checkpoint(path, bad), std::runtime_error);
+  EXPECT_EQ(read_checkpoint(path).t, sample_state(1).t);  // untouched
+  EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"checkpoint.h5"});
+}
+
+}  // namespace
+}  // namespace capsflow::io

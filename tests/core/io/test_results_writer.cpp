@@ -1,0 +1,238 @@
+// ResultsWriter: run.h5 layout, XDMF well-formed and consistent with run.h5, CSV, summary,
+// timings, restart truncation, and writing while another process holds run.h5 open.
+#include "capsflow/core/io/results_writer.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <regex>
+
+#include "capsflow/core/io/h5.hpp"
+#include "temp_dir.hpp"
+
+namespace capsflow::io {
+namespace {
+using testing::listing;
+using testing::read_text;
+using testing::TempDir;
+
+// A tetrahedron: the smallest closed triangulated surface (4 nodes, 4 triangles).
+SurfaceMesh tetrahedron() {
+  SurfaceMesh m;
+  m.vertices.resize(4, 3);
+  m.vertices << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
+  m.triangles.resize(4, 3);
+  m.triangles << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2;
+  return m;
+}
+
+nlohmann::json metadata() {
+  return {{"scene_toml", "[mesh]\nlevel = 4\n"},
+          {"scene_resolved", {{"mesh", {{"level", 4}}}}},
+          {"command_line", "capsflow run scene.toml -o out"},
+          {"threads", 2},
+          {"git/hash", "abc123"}};
+}
+
+// Step k: positions scaled by (1 + t), a vector and a scalar field.
+void write_test_step(ResultsWriter& w, const SurfaceMesh& mesh, double t) {
+  const Points x = mesh.vertices * (1 + t);
+  const Eigen::VectorXd tension = Eigen::VectorXd::Constant(mesh.num_nodes(), t);
+  w.write_step(t, x, {{"velocity", x * 0.5}, {"tension", tension}});
+}
+
+// Minimal XML well-formedness: every opening tag closed in order; returns false otherwise.
+bool tags_balanced(const std::string& xml) {
+  std::vector<std::string> stack;
+  for (std::size_t i = xml.find('<'); i != std::string::npos; i = xml.find('<', i + 1)) {
+    const std::size_t end = xml.find('>', i);
+    if (end == std::string::npos) return false;
+    const std::string tag = xml.substr(i + 1, end - i - 1);
+    if (tag.empty() || tag[0] == '?' || tag[0] == '!') continue;  // declaration, comment
+    if (tag[0] == '/') {
+      if (stack.empty() || stack.back() != tag.substr(1)) return false;
+      stack.pop_back();
+    } else if (tag.back() != '/') {
+      stack.push_back(tag.substr(0, tag.find_first_of(" \n")));
+    }
+  }
+  return stack.empty();
+}
+
+std::vector<std::string> all_matches(const std::string& text, const std::regex& re) {
+  std::vector<std::string> out;
+  for (std::sregex_iterator it(text.begin(), text.end(), re), end; it != end; ++it) {
+    out.push_back((*it)[1].str());
+  }
+  return out;
+}
+
+std::size_t count_uniform_grids(const std::string& xml) {
+  return all_matches(xml, std::regex("<Grid Name=\"([^\"]*)\" GridType=\"Uniform\">")).size();
+}
+
+TEST(ResultsWriter, RunFileHoldsMeshAndMetadata) {
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  ResultsWriter w(dir.path(), mesh, metadata());
+  h5::File f = h5::File::open(dir / "run.h5");
+  EXPECT_EQ(f.read_matrix<int>("mesh/triangles"), h5::RowMatrixXi(mesh.triangles));  // exact
+  EXPECT_EQ(f.read_matrix<double>("mesh/reference_positions"), h5::RowMatrixXd(mesh.vertices));
+  h5::Group meta = f.open_group("metadata");
+  EXPECT_EQ(meta.read_string("scene_toml"), "[mesh]\nlevel = 4\n");  // verbatim
+  EXPECT_EQ(nlohmann::json::parse(meta.read_string("scene_resolved")),
+            metadata()["scene_resolved"]);
+  EXPECT_EQ(meta.read_string("command_line"), "capsflow run scene.toml -o out");
+  EXPECT_EQ(meta.read_string("git_hash"), "abc123");  // '/' is not allowed in HDF5 names
+  EXPECT_EQ(meta.attribute_int("threads"), 2);
+  EXPECT_EQ(meta.attribute_int("schema_version"), kOutputSchemaVersion);
+  EXPECT_EQ(meta.attribute_string("hdf5_version"), h5::library_version());
+  EXPECT_TRUE(f.children() == (std::vector<std::string>{"mesh", "metadata", "steps"}));
+  // An empty but valid XDMF exists from the start.
+  EXPECT_TRUE(tags_balanced(read_text(dir / "run.xmf")));
+}
+
+TEST(ResultsWriter, XdmfAfterThreeStepsIsWellFormedAndPointsAtExistingDatasets) {
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  ResultsWriter w(dir.path(), mesh, metadata());
+  for (double t : {0.0, 0.1, 0.2}) write_test_step(w, mesh, t);
+  const std::string xml = read_text(dir / "run.xmf");
+
+  EXPECT_TRUE(tags_balanced(xml)) << xml;
+  EXPECT_NE(xml.find("<Xdmf Version=\"3.0\">"), std::string::npos);
+  EXPECT_NE(xml.find("GridType=\"Collection\" CollectionType=\"Temporal\""), std::string::npos);
+  EXPECT_EQ(count_uniform_grids(xml), 3u);
+  EXPECT_EQ(all_matches(xml, std::regex("<Time Value=\"([^\"]*)\"/>")),
+            (std::vector<std::string>{"0", "0.1", "0.2"}));  // shortest exact decimal
+  EXPECT_EQ(all_matches(xml, std::regex("AttributeType=\"(\\w+)\" Center=\"Node\"")).size(), 6u);
+
+  // Every DataItem names a dataset of run.h5 whose shape matches Dimensions.
+  const std::regex item("Dimensions=\"([0-9 ]+)\"[^>]*>run\\.h5:([^<]+)</DataItem>");
+  h5::File f = h5::File::open(dir / "run.h5");
+  std::size_t items = 0;
+  for (std::sregex_iterator it(xml.begin(), xml.end(), item), end; it != end; ++it, ++items) {
+    const std::string dims = (*it)[1].str(), dataset = (*it)[2].str();
+    ASSERT_TRUE(f.exists(dataset)) << dataset;
+    std::string shape;
+    for (hsize_t d : f.shape(dataset)) shape += (shape.empty() ? "" : " ") + std::to_string(d);
+    EXPECT_EQ(shape, dims) << dataset;
+  }
+  EXPECT_EQ(items, 3u * 4u);  // topology, geometry, 2 fields per step
+
+  // The step data itself.
+  h5::Group s1 = f.open_group("steps/000001");
+  EXPECT_EQ(s1.attribute_double("time"), 0.1);  // exact: stored as given
+  EXPECT_EQ(s1.read_matrix<double>("positions"), h5::RowMatrixXd(mesh.vertices * 1.1));
+  EXPECT_EQ(s1.read_vector<double>("tension"), Eigen::VectorXd::Constant(4, 0.1));
+  EXPECT_EQ(listing(dir.path()), (std::vector<std::string>{"run.h5", "run.xmf"}));  // no temps
+}
+
+TEST(ResultsWriter, RejectsBadSteps) {
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  ResultsWriter w(dir.path(), mesh, metadata());
+  write_test_step(w, mesh, 0.5);
+  const Points x = mesh.vertices;
+  EXPECT_THROW(w.write_step(0.5, x), std::invalid_argument);  // time must increase strictly
+  EXPECT_THROW(w.write_step(0.6, Points(3, 3)), std::invalid_argument);  // wrong node count
+  EXPECT_THROW(w.write_step(0.6, x, {{"f", Eigen::MatrixXd::Zero(4, 2)}}), std::invalid_argument);
+  EXPECT_THROW(w.write_step(0.6, x, {{"positions", x}}), std::invalid_argument);
+  EXPECT_THROW(w.write_step(0.6, x, {{"a", x}, {"a", x}}), std::invalid_argument);
+  EXPECT_EQ(w.num_steps(), 1u);
+  EXPECT_EQ(count_uniform_grids(read_text(dir / "run.xmf")), 1u);
+}
+
+TEST(ResultsWriter, SummaryAndTimings) {
+  TempDir dir;
+  ResultsWriter w(dir.path(), tetrahedron(), metadata());
+  const nlohmann::json summary = {{"t", 5.0}, {"steps", 50000}, {"steady", true},
+                                  {"D12", 0.123456789012345678}, {"L", {1.1, 0.9, 1.0}}};
+  w.write_summary(summary);
+  EXPECT_EQ(nlohmann::json::parse(read_text(dir / "summary.json")), summary);  // doubles exact
+  w.write_timings({{"step", {{"fluid", 1.5}, {"shell", 0.25}}}, {"total", 2.0}});
+  w.write_timings({{"step", {{"fluid", 3.0}}}});  // replaces the earlier table
+  h5::File f = h5::File::open(dir / "run.h5");
+  h5::Group g = f.open_group("timing");
+  EXPECT_EQ(g.attribute_double("step.fluid"), 3.0);
+  EXPECT_FALSE(g.has_attribute("total"));
+  EXPECT_EQ(nlohmann::json::parse(g.read_string("json"))["step"]["fluid"], 3.0);
+  w.append_row({{"t", 0.0}, {"D12", 0.0}});
+  EXPECT_EQ(read_text(dir / "timeseries.csv"), "t,D12\n0,0\n");
+}
+
+TEST(ResultsWriter, RestartTruncatesLaterStepsAndRows) {
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  {
+    ResultsWriter w(dir.path(), mesh, metadata());
+    for (int k = 0; k < 5; ++k) {
+      const double t = 0.1 * k;
+      write_test_step(w, mesh, t);
+      w.append_row({{"t", t}, {"D12", 0.01 * k}});
+    }
+  }
+  ResultsWriter w = ResultsWriter::reopen(dir.path(), 0.2, {{"command_line", "capsflow run --restart"}});
+  EXPECT_EQ(w.num_steps(), 3u);        // t = 0, 0.1, 0.2 (0.1 * 2 == 0.2 exactly)
+  EXPECT_EQ(w.last_time(), 0.1 * 2);
+  EXPECT_EQ(w.num_nodes(), 4);
+  {
+    h5::File f = h5::File::open(dir / "run.h5");
+    EXPECT_EQ(f.open_group("steps").children(),
+              (std::vector<std::string>{"000000", "000001", "000002"}));
+    EXPECT_EQ(f.open_group("metadata/restarts/0").read_string("command_line"),
+              "capsflow run --restart");
+    EXPECT_EQ(f.open_group("metadata/restarts/0").attribute_double("t_restart"), 0.2);
+  }
+  std::string xml = read_text(dir / "run.xmf");
+  EXPECT_EQ(count_uniform_grids(xml), 3u);
+  EXPECT_EQ(all_matches(xml, std::regex("<Time Value=\"([^\"]*)\"/>")).back(), "0.2");
+  EXPECT_EQ(read_text(dir / "timeseries.csv"), "t,D12\n0,0\n0.1,0.01\n0.2,0.02\n");
+
+  // The continued run appends cleanly after the restart point.
+  write_test_step(w, mesh, 0.30000000000000004);
+  w.append_row({{"t", 0.30000000000000004}, {"D12", 0.03}});
+  xml = read_text(dir / "run.xmf");
+  EXPECT_TRUE(tags_balanced(xml));
+  EXPECT_EQ(count_uniform_grids(xml), 4u);
+  EXPECT_NE(xml.find("run.h5:/steps/000003/positions"), std::string::npos);
+  EXPECT_EQ(read_text(dir / "timeseries.csv"),
+            "t,D12\n0,0\n0.1,0.01\n0.2,0.02\n0.30000000000000004,0.03\n");
+  h5::File f = h5::File::open(dir / "run.h5");
+  EXPECT_EQ(f.open_group("steps").children().size(), 4u);
+}
+
+TEST(ResultsWriter, WritesWhileAnotherProcessHoldsRunFileOpen) {
+  // ParaView keeps run.h5 open between reloads; HDF5 >= 1.10 file locking must not stop the run.
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  ResultsWriter w(dir.path(), mesh, metadata());
+  write_test_step(w, mesh, 0.0);
+  int ready[2], done[2];
+  ASSERT_EQ(pipe(ready), 0);
+  ASSERT_EQ(pipe(done), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {  // the "reader": opens read-only, reports, waits to be told to exit
+    const hid_t f = H5Fopen((dir / "run.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    char c = f >= 0 ? 'y' : 'n';
+    if (write(ready[1], &c, 1) != 1) _exit(2);
+    if (read(done[0], &c, 1) != 1) _exit(2);
+    _exit(0);
+  }
+  char c = 0;
+  ASSERT_EQ(read(ready[0], &c, 1), 1);
+  EXPECT_EQ(c, 'y');
+  EXPECT_NO_THROW(write_test_step(w, mesh, 0.1));
+  c = 'q';
+  EXPECT_EQ(write(done[1], &c, 1), 1);
+  int status = 0;
+  waitpid(child, &status, 0);
+  for (int fd : {ready[0], ready[1], done[0], done[1]}) close(fd);
+  EXPECT_EQ(w.num_steps(), 2u);
+  EXPECT_EQ(h5::File::open(dir / "run.h5").open_group("steps").children().size(), 2u);
+}
+
+}  // namespace
+}  // namespace capsflow::io
