@@ -2,6 +2,7 @@
 // Basic array types shared across capsflow::core.
 // Points are row-major N×3 so that data() is x0,y0,z0,x1,... — the layout capsflow::fmm takes.
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products
 
 namespace capsflow {
 
