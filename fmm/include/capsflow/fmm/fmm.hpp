@@ -1,0 +1,91 @@
+#pragma once
+// capsflow::fmm::Fmm<Kernel> — kernel-independent FMM (Ying, Biros & Zorin 2004).
+//
+// Three lifetimes:
+//   1. Operators (per kernel and order): built in the constructor, or loaded from the disk cache
+//      (<cache_dir>/<kernel>_p<order>_f64.bin). Can be shared between Fmm objects.
+//   2. Tree + lists: setup(src, n_src, trg, n_trg) — call every time the points move.
+//   3. Evaluation: evaluate(density, out, n_densities) — repeat with new densities.
+// Points are xyz-interleaved (x0,y0,z0,x1,...); densities Kernel::src_dim per source, outputs
+// Kernel::trg_dim per target, all in the caller's order; outputs are OVERWRITTEN. The sum is the
+// one of direct_sum (see the kernel header for its conventions; pairs at distance 0 skipped).
+// Accuracy: options.tolerance (relative L2 error against direct summation) is mapped to an
+// order by the committed calibration table (calibration.hpp); options.order > 0 forces p.
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capsflow/fmm/calibration.hpp"
+#include "capsflow/fmm/operators.hpp"
+#include "capsflow/fmm/tree.hpp"
+
+namespace capsflow::fmm {
+
+struct FmmOptions {
+  double tolerance = 1e-6;  ///< requested relative L2 accuracy; mapped to an order (calibration.hpp)
+  int order = 0;            ///< > 0 forces the order p (>= 2), overriding tolerance
+  int leaf_size = 0;        ///< max points (sources or targets) per leaf; 0 = tuned default
+  std::string cache_dir;    ///< "" = $CAPSFLOW_CACHE_DIR, $XDG_CACHE_HOME/capsflow, ~/.cache/capsflow
+  int threads = 0;          ///< 0 = OpenMP default
+};
+
+/// Seconds spent in each phase by the last setup() / evaluate() (evaluate: summed over densities).
+struct FmmTimings {
+  double tree = 0;      ///< setup: sort, octree, interaction lists
+  double p2m = 0;       ///< leaf sources -> upward check -> UE
+  double m2m = 0;       ///< child UE -> parent UE
+  double m2l = 0;       ///< V list: FFTs + Hadamard products
+  double x_list = 0;    ///< X list: P2L (or direct)
+  double l2l = 0;       ///< downward check -> DE, parent DE -> child
+  double p2p = 0;       ///< U list + W list (M2P or direct) + direct X
+  double l2p = 0;       ///< DE -> targets
+  double other = 0;     ///< gather/scatter, scaling
+  double setup_total = 0;
+  double eval_total = 0;
+};
+
+template <class Kernel>
+class Fmm {
+ public:
+  explicit Fmm(const FmmOptions& opt);
+  /// Share operators built elsewhere (same kernel); opt.order/tolerance are then ignored.
+  Fmm(const FmmOptions& opt, std::shared_ptr<const Operators<Kernel>> ops);
+
+  void setup(const double* src, std::size_t n_src, const double* trg, std::size_t n_trg);
+  void evaluate(const double* density, double* out, int n_densities = 1);
+
+  int order() const { return ops_->order(); }
+  int leaf_size() const { return leaf_size_; }
+  int threads() const { return threads_; }
+  const FmmTimings& timings() const { return t_; }
+  const Tree& tree() const { return tree_; }
+  const Operators<Kernel>& operators() const { return *ops_; }
+  std::shared_ptr<const Operators<Kernel>> shared_operators() const { return ops_; }
+
+ private:
+  void evaluate_one(const double* density, double* out);
+  void upward();
+  void downward_checks();
+  void downward();
+  void near_field();
+  void local_to_targets();
+
+  FmmOptions opt_;
+  int leaf_size_ = 0, threads_ = 1;
+  std::shared_ptr<const Operators<Kernel>> ops_;
+  Tree tree_;
+  bool has_setup_ = false;
+  std::size_t n_src_ = 0, n_trg_ = 0;
+  // per-evaluation data (sorted order, structure of arrays)
+  std::vector<double> f_;   // src_dim arrays of n_src
+  std::vector<double> u_;   // trg_dim arrays of n_trg
+  std::vector<double> ue_, cu_, rc_, de_;  // per node surface vectors, column-major
+  std::vector<char> x_direct_;             // per node: X list evaluated directly
+  FmmTimings t_;
+};
+
+}  // namespace capsflow::fmm
+
+#include "capsflow/fmm/fmm_impl.hpp"

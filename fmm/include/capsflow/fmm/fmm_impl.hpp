@@ -1,0 +1,372 @@
+#pragma once
+// Implementation of capsflow::fmm::Fmm<Kernel> (included by fmm.hpp; templated so that tests can
+// instantiate it with their own kernels, e.g. a counting kernel).
+//
+// Data per evaluation (sorted order): f_ densities, u_ outputs, and per node surface vectors
+// (column-major, one column per node, nodes level by level):
+//   ue_ upward equivalent density, cu_ upward reference check potential,
+//   rc_ downward reference check potential, de_ downward equivalent density.
+// Parallelism: owner computes everywhere (each thread writes only its own nodes' columns or its own
+// leaf's targets); no atomics. Dense operator products are blocked GEMMs over the columns of a level.
+#include <omp.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "capsflow/fmm/p2p.hpp"
+
+namespace capsflow::fmm {
+namespace detail {
+
+inline double wall_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// C(:, 0:ncols) (+)= A * B(:, 0:ncols), column-major with leading dimensions, parallel over columns.
+inline void par_gemm(const Eigen::MatrixXd& A, const double* B, std::size_t ldb, double* C,
+                     std::size_t ldc, std::size_t ncols, bool accumulate, int threads) {
+  using CMap = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+  using MMap = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+  constexpr std::size_t kBlock = 32;
+  const long nb = static_cast<long>((ncols + kBlock - 1) / kBlock);
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (long b = 0; b < nb; ++b) {
+    const std::size_t c0 = static_cast<std::size_t>(b) * kBlock;
+    const long m = static_cast<long>(std::min(kBlock, ncols - c0));
+    CMap Bm(B + c0 * ldb, A.cols(), m, Eigen::OuterStride<>(static_cast<long>(ldb)));
+    MMap Cm(C + c0 * ldc, A.rows(), m, Eigen::OuterStride<>(static_cast<long>(ldc)));
+    if (accumulate) Cm.noalias() += A * Bm; else Cm.noalias() = A * Bm;
+  }
+}
+
+}  // namespace detail
+
+template <class Kernel>
+Fmm<Kernel>::Fmm(const FmmOptions& opt) : opt_(opt) {
+  const int p = opt.order > 0 ? opt.order : order_for_tolerance(opt.tolerance);
+  ops_ = std::make_shared<const Operators<Kernel>>(p, opt.cache_dir);
+  leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size(p);
+  threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+}
+
+template <class Kernel>
+Fmm<Kernel>::Fmm(const FmmOptions& opt, std::shared_ptr<const Operators<Kernel>> ops)
+    : opt_(opt), ops_(std::move(ops)) {
+  if (!ops_) throw std::invalid_argument("capsflow::fmm::Fmm: null operators");
+  leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size(ops_->order());
+  threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+}
+
+template <class Kernel>
+void Fmm<Kernel>::setup(const double* src, std::size_t n_src, const double* trg, std::size_t n_trg) {
+  const double t0 = detail::wall_now();
+  n_src_ = n_src;
+  n_trg_ = n_trg;
+  tree_.build(src, n_src, trg, n_trg, leaf_size_, threads_);
+  const std::size_t nn = tree_.nodes.size(), n = static_cast<std::size_t>(ops_->nsurf());
+  const std::size_t ldu = Kernel::src_dim * n, ldc = Kernel::trg_dim * n;
+  ue_.assign(ldu * nn, 0.0);
+  de_.assign(ldu * nn, 0.0);
+  cu_.assign(ldc * nn, 0.0);
+  rc_.assign(ldc * nn, 0.0);
+  x_direct_.assign(nn, 0);
+  for (std::size_t b = 0; b < nn; ++b)
+    x_direct_[b] = tree_.X.size(static_cast<int>(b)) > 0 && tree_.nodes[b].ntrg() <= n;
+  has_setup_ = true;
+  t_ = FmmTimings{};
+  t_.tree = detail::wall_now() - t0;
+  t_.setup_total = t_.tree;
+}
+
+template <class Kernel>
+void Fmm<Kernel>::evaluate(const double* density, double* out, int n_densities) {
+  if (!has_setup_) throw std::logic_error("capsflow::fmm::Fmm::evaluate called before setup");
+  const double setup_tree = t_.tree, setup_total = t_.setup_total;
+  t_ = FmmTimings{};
+  t_.tree = setup_tree;
+  t_.setup_total = setup_total;
+  const double t0 = detail::wall_now();
+  for (int d = 0; d < n_densities; ++d)
+    evaluate_one(density + static_cast<std::size_t>(d) * n_src_ * Kernel::src_dim,
+                 out + static_cast<std::size_t>(d) * n_trg_ * Kernel::trg_dim);
+  t_.eval_total = detail::wall_now() - t0;
+}
+
+template <class Kernel>
+void Fmm<Kernel>::evaluate_one(const double* density, double* out) {
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  double t = detail::wall_now();
+  std::fill(out, out + n_trg_ * TD, 0.0);
+  if (n_trg_ == 0 || n_src_ == 0) return;
+  f_.resize(SD * n_src_);
+  u_.assign(TD * n_trg_, 0.0);
+  const auto& sp = tree_.src_perm;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (long i = 0; i < static_cast<long>(n_src_); ++i)
+    for (int k = 0; k < SD; ++k) f_[k * n_src_ + i] = density[SD * sp[i] + k];
+  t_.other += detail::wall_now() - t;
+
+  upward();
+  downward_checks();
+  downward();
+  near_field();
+  local_to_targets();
+
+  t = detail::wall_now();
+  const double s = std::pow(tree_.length, Kernel::homogeneity);
+  const auto& tp = tree_.trg_perm;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (long i = 0; i < static_cast<long>(n_trg_); ++i)
+    for (int k = 0; k < TD; ++k) out[TD * tp[i] + k] = s * u_[k * n_trg_ + i];
+  t_.other += detail::wall_now() - t;
+}
+
+template <class Kernel>
+void Fmm<Kernel>::upward() {
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  const Operators<Kernel>& op = *ops_;
+  const int n = op.nsurf();
+  const std::size_t ldu = SD * n, ldc = TD * n;
+  const Tree& T = tree_;
+  const int L = T.levels();
+  std::fill(cu_.begin(), cu_.end(), 0.0);
+  std::fill(ue_.begin(), ue_.end(), 0.0);
+  for (int l = L - 1; l >= 2; --l) {
+    const std::size_t lb = T.level_begin[l], le = T.level_begin[l + 1];
+    double t = detail::wall_now();
+    // P2M: leaf sources -> upward check surface (2.95 r), reference-scaled by r^{-h}
+    const double r = Tree::half_width(l);
+    const double sc = Kernel::scale() * std::pow(r, -Kernel::homogeneity);
+#pragma omp parallel num_threads(threads_)
+    {
+      std::vector<double> px(n), py(n), pz(n);
+#pragma omp for schedule(dynamic, 4)
+      for (long b = static_cast<long>(lb); b < static_cast<long>(le); ++b) {
+        const Node& B = T.nodes[b];
+        if (!B.leaf || B.nsrc() == 0) continue;
+        double c[3];
+        T.center(static_cast<int>(b), c);
+        op.surface().place(c, kRadOuter * r, px.data(), py.data(), pz.data());
+        const double* f[SD];
+        for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + B.sb;
+        double* u[TD];
+        for (int k = 0; k < TD; ++k) u[k] = cu_.data() + b * ldc + k * n;
+        p2p<Kernel>(px.data(), py.data(), pz.data(), n, T.sx.data() + B.sb, T.sy.data() + B.sb,
+                    T.sz.data() + B.sb, f, B.nsrc(), u, sc);
+      }
+    }
+    t_.p2m += detail::wall_now() - t;
+    t = detail::wall_now();
+    // M2M: children (level l+1) -> parents' reference check, batched per octant
+    if (l + 1 < L) {
+      const std::size_t cb = T.level_begin[l + 1], ce = T.level_begin[l + 2];
+      for (int o = 0; o < 8; ++o) {
+        std::vector<int> kids;
+        for (std::size_t c = cb; c < ce; ++c)
+          if (T.nodes[c].octant == o && T.nodes[c].nsrc() > 0) kids.push_back(static_cast<int>(c));
+        if (kids.empty()) continue;
+        std::vector<double> X(ldu * kids.size()), Y(ldc * kids.size());
+        for (std::size_t j = 0; j < kids.size(); ++j)
+          std::copy_n(ue_.data() + kids[j] * ldu, ldu, X.data() + j * ldu);
+        detail::par_gemm(op.m2m(o), X.data(), ldu, Y.data(), ldc, kids.size(), false, threads_);
+        for (std::size_t j = 0; j < kids.size(); ++j) {
+          double* dst = cu_.data() + T.nodes[kids[j]].parent * ldc;
+          const double* srcv = Y.data() + j * ldc;
+          for (std::size_t i = 0; i < ldc; ++i) dst[i] += srcv[i];
+        }
+      }
+    }
+    // check -> equivalent for the whole level
+    detail::par_gemm(op.uc2ue(), cu_.data() + lb * ldc, ldc, ue_.data() + lb * ldu, ldu, le - lb,
+                     false, threads_);
+    t_.m2m += detail::wall_now() - t;
+  }
+}
+
+template <class Kernel>
+void Fmm<Kernel>::downward_checks() {
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  const Operators<Kernel>& op = *ops_;
+  const M2lFft& fft = op.m2l();
+  const int n = op.nsurf();
+  const std::size_t ldu = SD * n, ldc = TD * n;
+  const Tree& T = tree_;
+  const int L = T.levels();
+  std::fill(rc_.begin(), rc_.end(), 0.0);
+  double t = detail::wall_now();
+  const std::size_t sss = fft.src_spec_size(), tss = fft.trg_spec_size();
+  const int CH = M2lFft::kChunk;
+  for (int l = 2; l < L; ++l) {
+    const std::size_t lb = T.level_begin[l], le = T.level_begin[l + 1];
+    std::vector<int> loc(le - lb, -1), srcs, trgs;
+    for (std::size_t b = lb; b < le; ++b) {
+      if (T.nodes[b].nsrc() > 0) { loc[b - lb] = static_cast<int>(srcs.size()); srcs.push_back(static_cast<int>(b)); }
+      if (T.V.size(static_cast<int>(b)) > 0) trgs.push_back(static_cast<int>(b));
+    }
+    if (trgs.empty()) continue;
+    std::vector<double> sspec(sss * srcs.size()), tspec(tss * trgs.size(), 0.0);
+#pragma omp parallel num_threads(threads_)
+    {
+      M2lFft::Work w(fft);
+#pragma omp for schedule(dynamic, 4)
+      for (long j = 0; j < static_cast<long>(srcs.size()); ++j)
+        fft.forward(ue_.data() + srcs[j] * ldu, sspec.data() + j * sss, w);
+      for (int c = 0; c < fft.nchunk(); ++c) {
+#pragma omp for schedule(dynamic, 8)
+        for (long j = 0; j < static_cast<long>(trgs.size()); ++j) {
+          const int b = trgs[j];
+          double* acc = tspec.data() + j * tss + static_cast<std::size_t>(c) * TD * 2 * CH;
+          for (std::size_t v = T.V.begin[b]; v < T.V.begin[b + 1]; ++v) {
+            const int s = loc[T.V.item[v] - lb];
+            fft.hadamard(c, T.v_offset[v], sspec.data() + s * sss + static_cast<std::size_t>(c) * SD * 2 * CH, acc);
+          }
+        }
+      }
+#pragma omp for schedule(dynamic, 4)
+      for (long j = 0; j < static_cast<long>(trgs.size()); ++j)
+        fft.backward(tspec.data() + j * tss, rc_.data() + trgs[j] * ldc, w);
+    }
+  }
+  t_.m2l += detail::wall_now() - t;
+  // X list by P2L: sources of A -> downward check surface (1.05 r) of B, reference-scaled
+  t = detail::wall_now();
+#pragma omp parallel num_threads(threads_)
+  {
+    std::vector<double> px(n), py(n), pz(n);
+#pragma omp for schedule(dynamic, 4)
+    for (long b = 0; b < static_cast<long>(T.nodes.size()); ++b) {
+      if (x_direct_[b] || T.X.size(static_cast<int>(b)) == 0) continue;
+      const int lev = T.nodes[b].level;
+      const double r = Tree::half_width(lev);
+      double c[3];
+      T.center(static_cast<int>(b), c);
+      op.surface().place(c, kRadInner * r, px.data(), py.data(), pz.data());
+      double* u[TD];
+      for (int k = 0; k < TD; ++k) u[k] = rc_.data() + b * ldc + k * n;
+      for (std::size_t x = T.X.begin[b]; x < T.X.begin[b + 1]; ++x) {
+        const Node& A = T.nodes[T.X.item[x]];
+        const double* f[SD];
+        for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
+        p2p<Kernel>(px.data(), py.data(), pz.data(), n, T.sx.data() + A.sb, T.sy.data() + A.sb,
+                    T.sz.data() + A.sb, f, A.nsrc(), u, Kernel::scale() * std::pow(r, -Kernel::homogeneity));
+      }
+    }
+  }
+  t_.x_list += detail::wall_now() - t;
+}
+
+template <class Kernel>
+void Fmm<Kernel>::downward() {
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  const Operators<Kernel>& op = *ops_;
+  const int n = op.nsurf();
+  const std::size_t ldu = SD * n, ldc = TD * n;
+  const Tree& T = tree_;
+  const int L = T.levels();
+  const double t = detail::wall_now();
+  for (int l = 2; l < L; ++l) {
+    const std::size_t lb = T.level_begin[l], le = T.level_begin[l + 1];
+    if (l >= 3) {
+      for (int o = 0; o < 8; ++o) {
+        std::vector<int> kids;
+        for (std::size_t c = lb; c < le; ++c)
+          if (T.nodes[c].octant == o && T.nodes[c].ntrg() > 0) kids.push_back(static_cast<int>(c));
+        if (kids.empty()) continue;
+        std::vector<double> X(ldu * kids.size()), Y(ldc * kids.size());
+        for (std::size_t j = 0; j < kids.size(); ++j)
+          std::copy_n(de_.data() + T.nodes[kids[j]].parent * ldu, ldu, X.data() + j * ldu);
+        detail::par_gemm(op.l2l(o), X.data(), ldu, Y.data(), ldc, kids.size(), false, threads_);
+        for (std::size_t j = 0; j < kids.size(); ++j) {
+          double* dst = rc_.data() + kids[j] * ldc;
+          const double* s = Y.data() + j * ldc;
+          for (std::size_t i = 0; i < ldc; ++i) dst[i] += s[i];
+        }
+      }
+    }
+    detail::par_gemm(op.dc2de(), rc_.data() + lb * ldc, ldc, de_.data() + lb * ldu, ldu, le - lb,
+                     false, threads_);
+  }
+  t_.l2l += detail::wall_now() - t;
+}
+
+template <class Kernel>
+void Fmm<Kernel>::near_field() {
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  const Operators<Kernel>& op = *ops_;
+  const int n = op.nsurf();
+  const std::size_t ldu = SD * n;
+  const Tree& T = tree_;
+  const double t = detail::wall_now();
+  const auto& leaves = T.leaves;
+#pragma omp parallel num_threads(threads_)
+  {
+    std::vector<double> px(n), py(n), pz(n);
+#pragma omp for schedule(dynamic, 1)
+    for (long li = 0; li < static_cast<long>(leaves.size()); ++li) {
+      const int b = leaves[li];
+      const Node& B = T.nodes[b];
+      if (B.ntrg() == 0) continue;
+      const double *tx = T.tx.data() + B.tb, *ty = T.ty.data() + B.tb, *tz = T.tz.data() + B.tb;
+      double* u[TD];
+      for (int k = 0; k < TD; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
+      auto direct_from = [&](const Node& A) {
+        const double* f[SD];
+        for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
+        p2p<Kernel>(tx, ty, tz, B.ntrg(), T.sx.data() + A.sb, T.sy.data() + A.sb, T.sz.data() + A.sb,
+                    f, A.nsrc(), u, Kernel::scale());
+      };
+      for (std::size_t j = T.U.begin[b]; j < T.U.begin[b + 1]; ++j) direct_from(T.nodes[T.U.item[j]]);
+      for (std::size_t j = T.W.begin[b]; j < T.W.begin[b + 1]; ++j) {
+        const int d = T.W.item[j];
+        const Node& D = T.nodes[d];
+        if (D.nsrc() <= static_cast<std::size_t>(n)) { direct_from(D); continue; }
+        double c[3];
+        T.center(d, c);
+        op.surface().place(c, kRadInner * Tree::half_width(D.level), px.data(), py.data(), pz.data());
+        const double* f[SD];
+        for (int k = 0; k < SD; ++k) f[k] = ue_.data() + d * ldu + k * n;
+        p2p<Kernel>(tx, ty, tz, B.ntrg(), px.data(), py.data(), pz.data(), f, n, u, Kernel::scale());
+      }
+      for (int a = b; a >= 0; a = T.nodes[a].parent)
+        if (x_direct_[a])
+          for (std::size_t j = T.X.begin[a]; j < T.X.begin[a + 1]; ++j) direct_from(T.nodes[T.X.item[j]]);
+    }
+  }
+  t_.p2p += detail::wall_now() - t;
+}
+
+template <class Kernel>
+void Fmm<Kernel>::local_to_targets() {
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  const Operators<Kernel>& op = *ops_;
+  const int n = op.nsurf();
+  const std::size_t ldu = SD * n;
+  const Tree& T = tree_;
+  const double t = detail::wall_now();
+  const auto& leaves = T.leaves;
+#pragma omp parallel num_threads(threads_)
+  {
+    std::vector<double> px(n), py(n), pz(n);
+#pragma omp for schedule(dynamic, 2)
+    for (long li = 0; li < static_cast<long>(leaves.size()); ++li) {
+      const int b = leaves[li];
+      const Node& B = T.nodes[b];
+      if (B.ntrg() == 0 || B.level < 2) continue;
+      double c[3];
+      T.center(b, c);
+      op.surface().place(c, kRadOuter * Tree::half_width(B.level), px.data(), py.data(), pz.data());
+      const double* f[SD];
+      for (int k = 0; k < SD; ++k) f[k] = de_.data() + b * ldu + k * n;
+      double* u[TD];
+      for (int k = 0; k < TD; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
+      p2p<Kernel>(T.tx.data() + B.tb, T.ty.data() + B.tb, T.tz.data() + B.tb, B.ntrg(), px.data(),
+                  py.data(), pz.data(), f, n, u, Kernel::scale());
+    }
+  }
+  t_.l2p += detail::wall_now() - t;
+}
+
+}  // namespace capsflow::fmm

@@ -1,0 +1,208 @@
+#pragma once
+// capsflow::fmm::M2lFft — FFT-accelerated M2L (multipole-to-local) for the KIFMM.
+//
+// The UE surface of a source box and the DC surface of a V-list target box (both at 1.05·r) lie
+// on lattices with the same spacing h = 2·1.05·r/(p−1), so for centres c_T − c_S = D
+//   check_j = Σ_i K(D + h(j − i)) m_i,
+// a discrete convolution on a (2p)^3 grid (circular, no aliasing since |j − i| ≤ p − 1).
+// Precomputed once per order: the r2c spectra of K sampled at D + h·n for the 316 V-list offsets
+// (reference box, half-width 1; the 1/(2p)^3 of the inverse FFT is folded in). Because the
+// kernel is homogeneous, the same spectra serve every level when M2L writes reference-scaled
+// check potentials (see operators.hpp).
+// Spectra are stored split (re/im) in chunks of kChunk frequencies so that the Hadamard products
+// are plain SIMD loops and one chunk of all 316 kernels stays in cache while all target boxes
+// of a level stream through it.
+// FFTW plans are made once (serially, under a process-wide lock: the FFTW planner is not
+// thread-safe) and executed from threads with the new-array interface on fftw_malloc'ed buffers.
+#include <fftw3.h>
+
+#include <cmath>
+#include <cstddef>
+#include <mutex>
+#include <vector>
+
+#include "capsflow/fmm/surface.hpp"
+#include "capsflow/fmm/tree.hpp"
+
+namespace capsflow::fmm {
+
+inline std::mutex& fftw_planner_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+/// RAII fftw_malloc buffer
+template <class T>
+struct FftwBuffer {
+  T* p = nullptr;
+  explicit FftwBuffer(std::size_t n = 0) { if (n) p = static_cast<T*>(fftw_malloc(sizeof(T) * n)); }
+  ~FftwBuffer() { if (p) fftw_free(p); }
+  FftwBuffer(const FftwBuffer&) = delete;
+  FftwBuffer& operator=(const FftwBuffer&) = delete;
+};
+
+class M2lFft {
+ public:
+  static constexpr int kChunk = 32;
+
+  explicit M2lFft(const Surface& s) : surf_(s) {}
+  ~M2lFft() {
+    std::lock_guard<std::mutex> lk(fftw_planner_mutex());
+    if (fwd_) fftw_destroy_plan(fwd_);
+    if (bwd_) fftw_destroy_plan(bwd_);
+  }
+  M2lFft(const M2lFft&) = delete;
+  M2lFft& operator=(const M2lFft&) = delete;
+
+  int grid() const { return m_; }
+  std::size_t nreal() const { return n3_; }
+  std::size_t nfreq() const { return nf_; }
+  int nchunk() const { return nchunk_; }
+  std::size_t src_spec_size() const { return static_cast<std::size_t>(nchunk_) * sd_ * 2 * kChunk; }
+  std::size_t trg_spec_size() const { return static_cast<std::size_t>(nchunk_) * td_ * 2 * kChunk; }
+  /// kernel spectrum block for chunk c and V offset o: [td*sd][re,im][kChunk]
+  const double* kernel(int c, int o) const {
+    return kspec_.data() + (static_cast<std::size_t>(c) * kNumVOffsets + o) * (td_ * sd_ * 2 * kChunk);
+  }
+  int src_dim() const { return sd_; }
+  int trg_dim() const { return td_; }
+
+  template <class Kernel>
+  void precompute() {
+    sd_ = Kernel::src_dim;
+    td_ = Kernel::trg_dim;
+    const int p = surf_.p;
+    m_ = 2 * p;
+    n3_ = static_cast<std::size_t>(m_) * m_ * m_;
+    const int mh = m_ / 2 + 1;
+    nf_ = static_cast<std::size_t>(m_) * m_ * mh;
+    nchunk_ = static_cast<int>((nf_ + kChunk - 1) / kChunk);
+    FftwBuffer<double> rin(n3_ * (sd_ > td_ ? sd_ : td_));
+    FftwBuffer<fftw_complex> cout(nf_ * (sd_ > td_ ? sd_ : td_));
+    fftw_plan single;
+    {
+      std::lock_guard<std::mutex> lk(fftw_planner_mutex());
+      const int dims[3] = {m_, m_, m_};
+      fwd_ = fftw_plan_many_dft_r2c(3, dims, sd_, rin.p, nullptr, 1, static_cast<int>(n3_), cout.p,
+                                    nullptr, 1, static_cast<int>(nf_), FFTW_ESTIMATE);
+      bwd_ = fftw_plan_many_dft_c2r(3, dims, td_, cout.p, nullptr, 1, static_cast<int>(nf_), rin.p,
+                                    nullptr, 1, static_cast<int>(n3_), FFTW_ESTIMATE);
+      single = fftw_plan_dft_r2c_3d(m_, m_, m_, rin.p, cout.p, FFTW_ESTIMATE);
+    }
+    kspec_.assign(static_cast<std::size_t>(nchunk_) * kNumVOffsets * td_ * sd_ * 2 * kChunk, 0.0);
+    const double h = 2.0 * kRadInner / (p - 1);
+    const double norm = 1.0 / static_cast<double>(n3_);
+#pragma omp parallel
+    {
+      FftwBuffer<double> g(n3_ * td_ * sd_);
+      FftwBuffer<fftw_complex> gc(nf_);
+#pragma omp for schedule(dynamic, 1)
+      for (int o = 0; o < 343; ++o) {
+        const int dx = o % 7 - 3, dy = (o / 7) % 7 - 3, dz = o / 49 - 3;
+        const int oi = v_offset_index(dx, dy, dz);
+        if (oi < 0) continue;
+        // sample K(D + h n), D = 2d (centres of half-width-1 boxes), n in [-(p-1), p-1]^3
+        for (std::size_t i = 0; i < n3_ * td_ * sd_; ++i) g.p[i] = 0.0;
+        for (int nx = -(p - 1); nx <= p - 1; ++nx)
+          for (int ny = -(p - 1); ny <= p - 1; ++ny)
+            for (int nz = -(p - 1); nz <= p - 1; ++nz) {
+              const double r[3] = {2.0 * dx + h * nx, 2.0 * dy + h * ny, 2.0 * dz + h * nz};
+              const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+              const double ri = 1.0 / std::sqrt(r2);
+              const std::size_t idx = (static_cast<std::size_t>((nx + m_) % m_) * m_ + (ny + m_) % m_) * m_ + (nz + m_) % m_;
+              for (int b = 0; b < sd_; ++b) {
+                double f[Kernel::src_dim] = {};
+                f[b] = 1.0;
+                double u[Kernel::trg_dim] = {};
+                Kernel::eval(u, r, ri, f);
+                for (int a = 0; a < td_; ++a) g.p[(a * sd_ + b) * n3_ + idx] = Kernel::scale() * u[a] * norm;
+              }
+            }
+        for (int ab = 0; ab < td_ * sd_; ++ab) {
+          fftw_execute_dft_r2c(single, g.p + ab * n3_, gc.p);
+          for (std::size_t f = 0; f < nf_; ++f) {
+            const std::size_t c = f / kChunk, q = f % kChunk;
+            double* blk = kspec_.data() + (c * kNumVOffsets + oi) * (td_ * sd_ * 2 * kChunk) + ab * 2 * kChunk;
+            blk[q] = gc.p[f][0];
+            blk[kChunk + q] = gc.p[f][1];
+          }
+        }
+      }
+    }
+    std::lock_guard<std::mutex> lk(fftw_planner_mutex());
+    fftw_destroy_plan(single);
+  }
+
+  /// Per-thread scratch for forward/backward transforms.
+  struct Work {
+    FftwBuffer<double> real;
+    FftwBuffer<fftw_complex> cplx;
+    explicit Work(const M2lFft& f)
+        : real(f.n3_ * (f.sd_ > f.td_ ? f.sd_ : f.td_)), cplx(f.nf_ * (f.sd_ > f.td_ ? f.sd_ : f.td_)) {}
+  };
+
+  /// UE density (component-major, src_dim·n) -> split/chunked spectrum (src_spec_size doubles)
+  void forward(const double* ue, double* spec, Work& w) const {
+    const int n = surf_.n;
+    for (std::size_t i = 0; i < n3_ * sd_; ++i) w.real.p[i] = 0.0;
+    for (int b = 0; b < sd_; ++b)
+      for (int k = 0; k < n; ++k) w.real.p[b * n3_ + surf_.grid[k]] = ue[b * n + k];
+    fftw_execute_dft_r2c(fwd_, w.real.p, w.cplx.p);
+    for (int c = 0; c < nchunk_; ++c)
+      for (int b = 0; b < sd_; ++b) {
+        double* blk = spec + (static_cast<std::size_t>(c) * sd_ + b) * 2 * kChunk;
+        for (int q = 0; q < kChunk; ++q) {
+          const std::size_t f = static_cast<std::size_t>(c) * kChunk + q;
+          blk[q] = f < nf_ ? w.cplx.p[b * nf_ + f][0] : 0.0;
+          blk[kChunk + q] = f < nf_ ? w.cplx.p[b * nf_ + f][1] : 0.0;
+        }
+      }
+  }
+
+  /// split/chunked target spectrum -> ADD the DC check potential (component-major, trg_dim·n)
+  void backward(const double* spec, double* check, Work& w) const {
+    const int n = surf_.n;
+    for (int c = 0; c < nchunk_; ++c)
+      for (int a = 0; a < td_; ++a) {
+        const double* blk = spec + (static_cast<std::size_t>(c) * td_ + a) * 2 * kChunk;
+        for (int q = 0; q < kChunk; ++q) {
+          const std::size_t f = static_cast<std::size_t>(c) * kChunk + q;
+          if (f >= nf_) break;
+          w.cplx.p[a * nf_ + f][0] = blk[q];
+          w.cplx.p[a * nf_ + f][1] = blk[kChunk + q];
+        }
+      }
+    fftw_execute_dft_c2r(bwd_, w.cplx.p, w.real.p);
+    for (int a = 0; a < td_; ++a)
+      for (int k = 0; k < n; ++k) check[a * n + k] += w.real.p[a * n3_ + surf_.grid[k]];
+  }
+
+  /// acc += K(offset) ⊙ src for one chunk (split complex, kChunk lanes)
+  void hadamard(int c, int o, const double* src_chunk, double* acc_chunk) const {
+    const double* k = kernel(c, o);
+    for (int a = 0; a < td_; ++a) {
+      double* ar = acc_chunk + a * 2 * kChunk;
+      double* ai = ar + kChunk;
+      for (int b = 0; b < sd_; ++b) {
+        const double* kr = k + (a * sd_ + b) * 2 * kChunk;
+        const double* ki = kr + kChunk;
+        const double* ur = src_chunk + b * 2 * kChunk;
+        const double* ui = ur + kChunk;
+#pragma omp simd
+        for (int q = 0; q < kChunk; ++q) {
+          ar[q] += kr[q] * ur[q] - ki[q] * ui[q];
+          ai[q] += kr[q] * ui[q] + ki[q] * ur[q];
+        }
+      }
+    }
+  }
+
+ private:
+  const Surface& surf_;
+  int sd_ = 1, td_ = 1, m_ = 0, nchunk_ = 0;
+  std::size_t n3_ = 0, nf_ = 0;
+  fftw_plan fwd_ = nullptr, bwd_ = nullptr;
+  std::vector<double> kspec_;
+};
+
+}  // namespace capsflow::fmm

@@ -1,0 +1,146 @@
+#pragma once
+// capsflow::fmm::Operators<Kernel> — the translation operators of the KIFMM, one object per
+// (kernel, order). Lifetime: built once, loaded from / saved to the disk cache.
+//
+// Scale invariance (kernel homogeneous of degree h): everything is built for a reference box of
+// half-width 1. Vectors are component-major: entry (c, k) of a surface vector is at c*n + k.
+//   uc2ue : pseudo-inverse of K(UC@2.95 <- UE@1.05)            (src_dim·n × trg_dim·n)
+//   dc2de : pseudo-inverse of K(DC@1.05 <- DE@2.95)
+//   m2m[o]: K(parent UC@2.95 <- child-o UE)   (child half-width 1/2, centre at ±1/2) — the
+//           parent UE is then uc2ue · Σ_o m2m[o]·UE_child (level-independent).
+//   l2l[o]: 0.5^{-h} K(child-o DC <- parent DE@2.95) — added to the child's reference check
+//           potential, which dc2de then turns into the child's DE.
+// A level-l box of half-width r has K_l = r^h K_ref, so P2M and P2L multiply check potentials
+// computed in true (normalised) coordinates by r^{-h} before applying uc2ue / dc2de.
+// Regularisation: singular values below 1e-10·s_max are dropped (numerics.md §3.2: truncating
+// at machine epsilon ruins the Stokeslet at p >= 10 because of its exact null direction).
+#include <omp.h>
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "capsflow/fmm/cache.hpp"
+#include "capsflow/fmm/m2l_fft.hpp"
+#include "capsflow/fmm/surface.hpp"
+
+namespace capsflow::fmm {
+
+constexpr double kPinvRelTol = 1e-10;
+
+/// Dense kernel matrix K (trg_dim·nt × src_dim·ns), component-major, scale included.
+template <class Kernel>
+Eigen::MatrixXd kernel_matrix(const double* tx, const double* ty, const double* tz, int nt,
+                              const double* sx, const double* sy, const double* sz, int ns) {
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  Eigen::MatrixXd K(TD * nt, SD * ns);
+  for (int j = 0; j < ns; ++j)
+    for (int i = 0; i < nt; ++i) {
+      const double r[3] = {tx[i] - sx[j], ty[i] - sy[j], tz[i] - sz[j]};
+      const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+      const double ri = r2 > 0 ? 1.0 / std::sqrt(r2) : 0.0;
+      for (int b = 0; b < SD; ++b) {
+        double f[SD] = {};
+        f[b] = 1.0;
+        double u[TD] = {};
+        Kernel::eval(u, r, ri, f);
+        for (int a = 0; a < TD; ++a) K(a * nt + i, b * ns + j) = Kernel::scale() * u[a];
+      }
+    }
+  return K;
+}
+
+/// Truncated-SVD pseudo-inverse, dropping singular values below rel·s_max.
+inline Eigen::MatrixXd regularised_pinv(const Eigen::MatrixXd& K, double rel) {
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(K, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const auto& s = svd.singularValues();
+  Eigen::VectorXd sinv(s.size());
+  const double cut = rel * (s.size() ? s(0) : 0.0);
+  for (int i = 0; i < s.size(); ++i) sinv(i) = s(i) > cut ? 1.0 / s(i) : 0.0;
+  return svd.matrixV() * sinv.asDiagonal() * svd.matrixU().transpose();
+}
+
+template <class Kernel>
+class Operators {
+ public:
+  /// Build or load the operators of order p. cache_dir "" => resolve_cache_dir("") (env vars);
+  /// if no directory can be resolved or written, the operators are built and not saved.
+  Operators(int p, const std::string& cache_dir) : surf_(p), m2l_(surf_) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const int n = surf_.n;
+    const std::string dir = resolve_cache_dir(cache_dir);
+    char key[256];
+    std::snprintf(key, sizeof key, "kernel=%s order=%d nsurf=%d src=%d trg=%d rin=%.17g rout=%.17g reg=%.3g prec=f64",
+                  Kernel::name, p, n, Kernel::src_dim, Kernel::trg_dim, kRadInner, kRadOuter, kPinvRelTol);
+    key_ = key;
+    if (!dir.empty()) path_ = dir + "/" + Kernel::name + "_p" + std::to_string(p) + "_f64.bin";
+    std::vector<Eigen::MatrixXd> mats;
+    const int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+    if (!path_.empty() && load_operator_cache(path_, key_, mats) && mats.size() == 2 &&
+        mats[0].rows() == SD * n && mats[0].cols() == TD * n && mats[1].rows() == SD * n &&
+        mats[1].cols() == TD * n) {
+      uc2ue_ = std::move(mats[0]);
+      dc2de_ = std::move(mats[1]);
+      loaded_ = true;
+    } else {
+      build_pinvs();
+      if (!path_.empty()) saved_ = save_operator_cache(path_, key_, {uc2ue_, dc2de_});
+    }
+    build_translations();
+    m2l_.template precompute<Kernel>();
+    build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  int order() const { return surf_.p; }
+  int nsurf() const { return surf_.n; }
+  const Surface& surface() const { return surf_; }
+  const Eigen::MatrixXd& uc2ue() const { return uc2ue_; }
+  const Eigen::MatrixXd& dc2de() const { return dc2de_; }
+  const Eigen::MatrixXd& m2m(int o) const { return m2m_[o]; }
+  const Eigen::MatrixXd& l2l(int o) const { return l2l_[o]; }
+  const M2lFft& m2l() const { return m2l_; }
+  bool loaded_from_cache() const { return loaded_; }
+  bool saved_to_cache() const { return saved_; }
+  const std::string& cache_file() const { return path_; }
+  double build_seconds() const { return build_seconds_; }
+
+ private:
+  std::vector<double> scaled(const std::vector<double>& v, double a, double shift) const {
+    std::vector<double> o(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) o[i] = shift + a * v[i];
+    return o;
+  }
+  Eigen::MatrixXd kmat(double rt, const double ct[3], double rs, const double cs[3]) const {
+    const auto tx = scaled(surf_.x, rt, ct[0]), ty = scaled(surf_.y, rt, ct[1]), tz = scaled(surf_.z, rt, ct[2]);
+    const auto sx = scaled(surf_.x, rs, cs[0]), sy = scaled(surf_.y, rs, cs[1]), sz = scaled(surf_.z, rs, cs[2]);
+    return kernel_matrix<Kernel>(tx.data(), ty.data(), tz.data(), surf_.n, sx.data(), sy.data(),
+                                 sz.data(), surf_.n);
+  }
+  void build_pinvs() {
+    const double c0[3] = {0, 0, 0};
+    uc2ue_ = regularised_pinv(kmat(kRadOuter, c0, kRadInner, c0), kPinvRelTol);
+    dc2de_ = regularised_pinv(kmat(kRadInner, c0, kRadOuter, c0), kPinvRelTol);
+  }
+  void build_translations() {
+    const double c0[3] = {0, 0, 0};
+    const double child_scale = std::pow(0.5, -Kernel::homogeneity);
+    for (int o = 0; o < 8; ++o) {
+      const double cc[3] = {(o & 1) ? 0.5 : -0.5, (o & 2) ? 0.5 : -0.5, (o & 4) ? 0.5 : -0.5};
+      m2m_[o] = kmat(kRadOuter, c0, 0.5 * kRadInner, cc);
+      l2l_[o] = child_scale * kmat(0.5 * kRadInner, cc, kRadOuter, c0);
+    }
+  }
+
+  Surface surf_;
+  M2lFft m2l_;
+  Eigen::MatrixXd uc2ue_, dc2de_;
+  Eigen::MatrixXd m2m_[8], l2l_[8];
+  std::string key_, path_;
+  bool loaded_ = false, saved_ = false;
+  double build_seconds_ = 0;
+};
+
+}  // namespace capsflow::fmm

@@ -1,0 +1,56 @@
+#pragma once
+// Test point distributions (sphere surface, spheroid a/b = 1.4 surface, uniform cube, clustered)
+// and error metrics shared by the fmm tests.
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace capsflow::fmm::testing {
+
+inline std::vector<double> make_points(const std::string& dist, std::size_t n, unsigned seed) {
+  std::mt19937_64 g(seed);
+  std::normal_distribution<double> nd;
+  std::uniform_real_distribution<double> ud(-1, 1);
+  std::vector<double> p(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double x[3];
+    if (dist == "sphere" || dist == "spheroid") {
+      double r2 = 0;
+      for (double& v : x) { v = nd(g); r2 += v * v; }
+      for (double& v : x) v /= std::sqrt(r2);
+      if (dist == "spheroid") {  // X1²/b² + X2²/b² + X3²/a² = 1, a/b = 1.4, a b² = 1
+        const double b = std::cbrt(1.0 / 1.4), a = 1.4 * b;
+        x[0] *= b; x[1] *= b; x[2] *= a;
+      }
+    } else if (dist == "cube") {
+      for (double& v : x) v = ud(g);
+    } else {  // clustered: Gaussian blobs of very different widths
+      const int c = static_cast<int>(i % 4);
+      const double w[4] = {0.3, 0.05, 0.01, 0.002};
+      const double ctr[4][3] = {{0, 0, 0}, {0.7, 0.2, -0.4}, {-0.5, 0.6, 0.5}, {0.3, -0.8, 0.1}};
+      for (int d = 0; d < 3; ++d) x[d] = ctr[c][d] + w[c] * nd(g);
+    }
+    for (int d = 0; d < 3; ++d) p[3 * i + d] = x[d];
+  }
+  return p;
+}
+
+inline std::vector<double> random_density(std::size_t n, unsigned seed) {
+  std::mt19937_64 g(seed);
+  std::normal_distribution<double> nd;
+  std::vector<double> f(n);
+  for (auto& v : f) v = nd(g);
+  return f;
+}
+
+inline double rel_l2(const std::vector<double>& a, const std::vector<double>& ref) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    num += (a[i] - ref[i]) * (a[i] - ref[i]);
+    den += ref[i] * ref[i];
+  }
+  return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+}
+
+}  // namespace capsflow::fmm::testing
