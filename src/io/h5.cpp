@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <cstring>
 #include <stdexcept>
 
@@ -123,9 +124,9 @@ std::string Location::child_path(const std::string& name) const {
 }
 
 bool Location::exists(const std::string& name) const {
-  std::string prefix;
+  std::string prefix = !name.empty() && name.front() == '/' ? "/" : "";
   for (const std::string& part : split_path(name)) {
-    prefix += prefix.empty() ? part : "/" + part;
+    prefix += prefix.empty() || prefix == "/" ? part : "/" + part;
     const htri_t r = H5Lexists(id(), prefix.c_str(), H5P_DEFAULT);
     if (r < 0) fail("cannot check existence of", prefix);
     if (r == 0) return false;
@@ -135,9 +136,10 @@ bool Location::exists(const std::string& name) const {
 
 bool Location::is_group(const std::string& name) const {
   if (!exists(name)) return false;
-  H5O_info_t info;
-  if (H5Oget_info_by_name(id(), name.c_str(), &info, H5P_DEFAULT) < 0) fail("cannot inspect", name);
-  return info.type == H5O_TYPE_GROUP;
+  // H5Oopen + H5Iget_type rather than H5Oget_info_by_name, whose signature changed in HDF5 1.12.
+  const Handle obj(H5Oopen(id(), name.c_str(), H5P_DEFAULT), H5Oclose);
+  if (!obj.valid()) fail("cannot open object", name);
+  return H5Iget_type(obj.get()) == H5I_GROUP;
 }
 
 std::vector<std::string> Location::children() const {
@@ -407,8 +409,11 @@ File File::open(const fs::path& path, Mode mode, bool ignore_lock_conflicts) {
     }
     // A reader holds the file (HDF5 >= 1.10 locking). Writing anyway is safe for us because we
     // only append groups and close after each step; warn so users know why.
-    spdlog::warn("{} is locked by another program (ParaView?); writing without HDF5 file locking",
-                 path.string());
+    static std::atomic<bool> warned{false};  // once per run, not at every output step
+    if (!warned.exchange(true)) {
+      spdlog::warn("{} is locked by another program (ParaView?); writing without HDF5 file locking",
+                   path.string());
+    }
     const Handle fapl = property_list(H5P_FILE_ACCESS);
     H5Pset_file_locking(fapl.get(), 0, 1);
     f = H5Fopen(path.c_str(), flags, fapl.get());

@@ -2,9 +2,11 @@
 #include "capsflow/core/io/results_writer.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <optional>
 #include <set>
@@ -28,6 +30,26 @@ struct ResultsWriter::State {
 };
 
 namespace {
+
+// Indented JSON; invalid UTF-8 (a file name from the command line) is replaced, never thrown.
+std::string dump_json(const nlohmann::json& j) {
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+// "2026-11-22T02:50:00Z": when the run file was made (with the host, for reproducibility).
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::string host_name() {
+  char buf[256] = {};
+  return ::gethostname(buf, sizeof buf - 1) == 0 ? std::string(buf) : std::string("unknown");
+}
 
 std::string step_group(std::int64_t k) { return fmt::format("/steps/{:06d}", k); }
 
@@ -53,7 +75,7 @@ void write_metadata(h5::Group& g, const nlohmann::json& metadata) {
     } else if (value.is_number_float()) {
       g.set_attribute(name, value.get<double>());
     } else {
-      g.write_string(name, value.dump(2));
+      g.write_string(name, dump_json(value));
     }
   }
 }
@@ -85,6 +107,11 @@ ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
   if (s_->num_nodes == 0 || s_->num_triangles == 0) {
     throw std::invalid_argument("ResultsWriter: the reference mesh is empty");
   }
+  // A new run starts new series: never append to a CSV or keep a summary of an earlier run.
+  for (const char* stale : {kTimeseriesCsv, kSummaryJson}) {
+    std::error_code ec;
+    fs::remove(s_->folder / stale, ec);
+  }
   // Written to a temporary and renamed, so a crash here never leaves a half-made run.h5.
   replace_file_atomically(s_->h5_path(), [&](const fs::path& tmp) {
     h5::File f = h5::File::create(tmp);
@@ -94,6 +121,8 @@ ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
     write_metadata(meta, metadata);
     meta.set_attribute("schema_version", kOutputSchemaVersion);
     meta.set_attribute("hdf5_version", h5::library_version());
+    meta.set_attribute("created_utc", utc_now());
+    meta.set_attribute("hostname", host_name());
     f.create_group("steps");
     f.close();
   });
@@ -102,6 +131,9 @@ ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
 
 ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
                                     const nlohmann::json& metadata) {
+  if (!std::isfinite(t_restart)) {
+    throw std::invalid_argument(fmt::format("restart time {} is not finite", t_restart));
+  }
   auto s = std::make_unique<State>();
   s->folder = std::move(folder);
   {
@@ -162,6 +194,7 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
 
 void ResultsWriter::write_step(double t, const Points& positions, const NamedFields& nodal_fields) {
   State& s = *s_;
+  if (!std::isfinite(t)) throw std::invalid_argument(fmt::format("write_step: time {} is not finite", t));
   if (!s.steps.empty() && !(t > s.steps.back().time)) {
     throw std::invalid_argument(fmt::format(
         "write_step: time {} is not after the last output time {}", t, s.steps.back().time));
@@ -173,7 +206,7 @@ void ResultsWriter::write_step(double t, const Points& positions, const NamedFie
   std::set<std::string> seen;
   XdmfStep st{t, step_group(s.next_index), {}};
   for (const auto& [name, values] : nodal_fields) {
-    if (name.empty() || name == "positions" || name.find_first_of("/.<>&\"'") != std::string::npos ||
+    if (name.empty() || name == "positions" || name == "." || name.find('/') != std::string::npos ||
         !seen.insert(name).second) {
       throw std::invalid_argument("write_step: bad or duplicate field name '" + name + "'");
     }
@@ -214,7 +247,7 @@ void ResultsWriter::append_row(const CsvRow& row) {
 }
 
 void ResultsWriter::write_summary(const nlohmann::json& summary) {
-  write_file_atomically(s_->folder / kSummaryJson, summary.dump(2) + "\n");
+  write_file_atomically(s_->folder / kSummaryJson, dump_json(summary) + "\n");
 }
 
 void ResultsWriter::write_timings(const nlohmann::json& table) {
@@ -222,7 +255,7 @@ void ResultsWriter::write_timings(const nlohmann::json& table) {
   if (f.exists("timing")) f.remove("timing");
   {
     h5::Group g = f.create_group("timing");
-    g.write_string("json", table.dump(2));
+    g.write_string("json", dump_json(table));
     flatten_numbers(g, table, "");
   }
   f.close();

@@ -52,6 +52,13 @@ TimeseriesCsv::TimeseriesCsv(fs::path path) : path_(std::move(path)) {
   if (fs::exists(path_, ec) && fs::file_size(path_, ec) > 0) {
     const std::vector<std::string> lines = complete_lines(path_);
     if (!lines.empty()) columns_ = split_csv_line(lines.front());
+    // Cut an incomplete last line (a crash mid-write), or the next row would be glued to it.
+    std::uintmax_t complete = 0;
+    for (const std::string& l : lines) complete += l.size() + 1;
+    if (complete != fs::file_size(path_, ec)) {
+      fs::resize_file(path_, complete, ec);
+      if (ec) throw std::runtime_error("cannot repair '" + path_.string() + "': " + ec.message());
+    }
   }
   file_ = std::fopen(path_.c_str(), "a");
   if (file_ == nullptr) detail::throw_errno("cannot open", path_);

@@ -88,6 +88,8 @@ TEST(ResultsWriter, RunFileHoldsMeshAndMetadata) {
   EXPECT_EQ(meta.attribute_int("threads"), 2);
   EXPECT_EQ(meta.attribute_int("schema_version"), kOutputSchemaVersion);
   EXPECT_EQ(meta.attribute_string("hdf5_version"), h5::library_version());
+  EXPECT_EQ(meta.attribute_string("created_utc").size(), 20u);  // 2026-11-22T02:50:00Z
+  EXPECT_TRUE(meta.has_attribute("hostname"));
   EXPECT_TRUE(f.children() == (std::vector<std::string>{"mesh", "metadata", "steps"}));
   // An empty but valid XDMF exists from the start.
   EXPECT_TRUE(tags_balanced(read_text(dir / "run.xmf")));
@@ -140,6 +142,8 @@ TEST(ResultsWriter, RejectsBadSteps) {
   EXPECT_THROW(w.write_step(0.6, x, {{"f", Eigen::MatrixXd::Zero(4, 2)}}), std::invalid_argument);
   EXPECT_THROW(w.write_step(0.6, x, {{"positions", x}}), std::invalid_argument);
   EXPECT_THROW(w.write_step(0.6, x, {{"a", x}, {"a", x}}), std::invalid_argument);
+  EXPECT_THROW(w.write_step(0.6, x, {{"a/b", x}}), std::invalid_argument);  // not an HDF5 name
+  EXPECT_THROW(w.write_step(NAN, x), std::invalid_argument);
   EXPECT_EQ(w.num_steps(), 1u);
   EXPECT_EQ(count_uniform_grids(read_text(dir / "run.xmf")), 1u);
 }
@@ -160,6 +164,20 @@ TEST(ResultsWriter, SummaryAndTimings) {
   EXPECT_EQ(nlohmann::json::parse(g.read_string("json"))["step"]["fluid"], 3.0);
   w.append_row({{"t", 0.0}, {"D12", 0.0}});
   EXPECT_EQ(read_text(dir / "timeseries.csv"), "t,D12\n0,0\n");
+  // A new run in the same folder starts new series, even without prepare_output_folder.
+  ResultsWriter again(dir.path(), tetrahedron(), metadata());
+  EXPECT_FALSE(std::filesystem::exists(dir / "timeseries.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "summary.json"));
+}
+
+TEST(ResultsWriter, FieldNamesAreEscapedInXdmf) {
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  ResultsWriter w(dir.path(), mesh, metadata());
+  w.write_step(0.0, mesh.vertices, {{"a<b>&\"c\"", Eigen::VectorXd::Zero(4)}});
+  const std::string xml = read_text(dir / "run.xmf");
+  EXPECT_TRUE(tags_balanced(xml)) << xml;
+  EXPECT_NE(xml.find("Name=\"a&lt;b&gt;&amp;&quot;c&quot;\""), std::string::npos) << xml;
 }
 
 TEST(ResultsWriter, RestartTruncatesLaterStepsAndRows) {

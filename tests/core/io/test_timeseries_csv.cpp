@@ -67,6 +67,15 @@ TEST(TimeseriesCsv, TruncateAfterKeepsHeaderAndEarlierRows) {
   EXPECT_THROW(csv.append_row({{"t", 2.0}}), std::invalid_argument);  // header is enforced
 }
 
+TEST(TimeseriesCsv, IncompleteLastLineIsCutBeforeAppending) {
+  TempDir dir;
+  const auto path = dir / "timeseries.csv";
+  write_text(path, "t,D12\n0,0\n0.1,0.0");  // killed in the middle of a row
+  TimeseriesCsv csv(path);
+  csv.append_row({{"t", 0.1}, {"D12", 0.5}});
+  EXPECT_EQ(read_text(path), "t,D12\n0,0\n0.1,0.5\n");
+}
+
 TEST(TimeseriesCsv, TruncateMissingFileIsANoOp) {
   TempDir dir;
   EXPECT_EQ(TimeseriesCsv::truncate_after(dir / "absent.csv", 1.0), 0u);

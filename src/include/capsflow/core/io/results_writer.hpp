@@ -52,7 +52,8 @@ class ResultsWriter {
   //   object / array → string dataset holding the JSON text.
   // Suggested keys: "scene_toml" (verbatim input), "scene_resolved" (object), "command_line",
   // "version", "git_hash", "library_versions" (object), "threads", "build".
-  // The writer adds attributes schema_version and hdf5_version itself.
+  // The writer adds attributes schema_version, hdf5_version, created_utc and hostname itself.
+  // An existing timeseries.csv or summary.json in `folder` (an earlier run) is removed.
   ResultsWriter(std::filesystem::path folder, const SurfaceMesh& reference_mesh,
                 const nlohmann::json& metadata);
 
