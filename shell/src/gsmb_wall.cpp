@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "capsflow/shell/director.hpp"
@@ -36,6 +38,8 @@ void GsmbWall::init(const Points& X, const Points& D) {
     ref_[e] = make_element_ref(Xe, De, t, opt_.thickness, G, opt_.poisson);
   }
   set_directors(D_);
+  nodal_normals(X, n_prev_);
+  n_cur_ = n_prev_;
   fx_.setZero(n, 3);
   g_.setZero(n, 3);
   Rth_.setZero(2 * n);
@@ -146,7 +150,10 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
     if (want_K) {
       const int dp = row_base_[i] + 2 * topo_.diag_pos[i];
       if (opt_.geometric_tangent) {
-        const double c = std::max(0.0, -gi.dot(d_.row(i)));
+        // exact second-order term of the exponential map; bounded below by half the smallest
+        // material diagonal entry so the diagonal stays positive far from equilibrium
+        const double kmin = std::min(Kv[dp], Kv[dp + row_len2_[i] + 1]);
+        const double c = std::max(-gi.dot(d_.row(i)), -0.5 * kmin);
         Kv[dp] += c;
         Kv[dp + row_len2_[i] + 1] += c;
       }
@@ -158,14 +165,49 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
   if (R_theta) *R_theta = Rth_;
 }
 
+void GsmbWall::nodal_normals(const Points& x, Points& nrm) const {
+  const int n = topo_.n_nodes;
+  if (nrm.rows() != n) nrm.resize(n, 3);
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (int i = 0; i < n; ++i) {
+    Vec3 s = Vec3::Zero();
+    for (int p = topo_.inc_ptr[i]; p < topo_.inc_ptr[i + 1]; ++p) {
+      const auto& t = topo_.tri[topo_.inc_elem[p]];
+      const Vec3 a = x.row(t[0]);
+      s += (Vec3(x.row(t[1])) - a).cross(Vec3(x.row(t[2])) - a);
+    }
+    nrm.row(i) = s.normalized().transpose();
+  }
+}
+
 WallStats GsmbWall::solve_rotations(const Points& x) {
   WallStats st;
   const int n2 = 2 * topo_.n_nodes;
+  if (opt_.predict) {
+    nodal_normals(x, n_cur_);
+    const int n = topo_.n_nodes;
+#pragma omp parallel for schedule(static) if (n > 4096)
+    for (int i = 0; i < n; ++i) {
+      const Vec3 a = n_prev_.row(i), b = n_cur_.row(i);
+      const Vec3 ax = a.cross(b);
+      const double s = ax.norm(), c = a.dot(b);
+      if (s < 1e-15) continue;
+      const Vec3 w = ax * (std::atan2(s, c) / s);  // minimal rotation a -> b
+      const Vec3 dn = rodrigues(w, Vec3(d_.row(i))).normalized();
+      Vec3 tn = rodrigues(w, Vec3(t1_.row(i)));
+      tn = (tn - tn.dot(dn) * dn).normalized();
+      d_.row(i) = dn;
+      t1_.row(i) = tn;
+      t2_.row(i) = dn.cross(tn);
+    }
+    n_prev_ = n_cur_;
+  }
   for (int it = 0;; ++it) {
     evaluate(x, nullptr, nullptr, true);
     double res = 0;
     for (int i = 0; i < n2; ++i) res = std::max(res, std::abs(Rth_[i]) / kdiag_[i]);
     st.residual = res;
+    if (std::getenv("CAPSFLOW_SHELL_TRACE")) std::fprintf(stderr, "newton %d residual %.3e\n", it, res);
     if (res <= opt_.newton_tol) break;
     if (it >= opt_.max_newton) {
       st.converged = false;
@@ -174,6 +216,10 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     Rth_ = -Rth_;
     double rr = 0;
     st.cg_iterations += pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
+    double big = 0;
+    for (int i = 0; i < topo_.n_nodes; ++i)
+      big = std::max(big, std::hypot(dw_[2 * i], dw_[2 * i + 1]));
+    if (big > opt_.max_step) dw_ *= opt_.max_step / big;
     rotate(dw_);
     ++st.newton_iterations;
   }
@@ -229,24 +275,26 @@ void GsmbWall::nodal_energy_maps(const Points& x, Eigen::VectorXd& Em, Eigen::Ve
 
 Eigen::VectorXd GsmbWall::state() const {
   const int n = topo_.n_nodes;
-  Eigen::VectorXd s(9 * n);
+  Eigen::VectorXd s(12 * n);
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) {
       s[3 * i + k] = d_(i, k);
       s[3 * n + 3 * i + k] = t1_(i, k);
       s[6 * n + 3 * i + k] = t2_(i, k);
+      s[9 * n + 3 * i + k] = n_prev_(i, k);
     }
   return s;
 }
 
 void GsmbWall::set_state(const Eigen::VectorXd& s) {
   const int n = topo_.n_nodes;
-  if (s.size() != 9 * n) throw std::invalid_argument("GsmbWall::set_state: wrong size");
+  if (s.size() != 12 * n) throw std::invalid_argument("GsmbWall::set_state: wrong size");
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) {
       d_(i, k) = s[3 * i + k];
       t1_(i, k) = s[3 * n + 3 * i + k];
       t2_(i, k) = s[6 * n + 3 * i + k];
+      n_prev_(i, k) = s[9 * n + 3 * i + k];
     }
 }
 

@@ -84,7 +84,9 @@ int BlockPcg::solve(const SpMatR& A, const double* b, double* x, double tol, int
   double rn = bnorm;
   while (it < max_iter) {
     spmv(A, p, q);
-    const double alpha = rz / par::dot(n, p, q, partial_);
+    const double pq = par::dot(n, p, q, partial_);
+    if (!(pq > 0)) break;  // not positive definite along p: return the current iterate
+    const double alpha = rz / pq;
 #pragma omp parallel for schedule(static) if (n > 8192)
     for (long i = 0; i < n; ++i) { x[i] += alpha * p[i]; r[i] -= alpha * q[i]; }
     ++it;

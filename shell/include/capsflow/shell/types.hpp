@@ -8,6 +8,7 @@
 //  * Non-dimensional units of the project: lengths by l, G_s = 1/Ca_s, thickness h = alpha,
 //    G = G_s / h, nu = nu_s. Forces R_s are nodal (energy per length), loads q per deformed area.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace capsflow::shell {
 
