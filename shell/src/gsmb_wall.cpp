@@ -203,7 +203,9 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     n_prev_ = n_cur_;
   }
   for (int it = 0;; ++it) {
-    evaluate(x, nullptr, nullptr, true);
+    // tangent built at the first Newton step of each call and reused by the later steps of the
+    // same call (they start within O(newton step^2) of the solution; the residual is exact)
+    evaluate(x, nullptr, nullptr, it == 0);
     double res = 0;
     for (int i = 0; i < n2; ++i) res = std::max(res, std::abs(Rth_[i]) / kdiag_[i]);
     st.residual = res;

@@ -14,8 +14,9 @@ namespace capsflow::shell {
 class LoadRecovery {
  public:
   LoadRecovery(const Triangles& tri, Eigen::Index n_nodes);
-  /// Consistent mass. Stops when ||R - M q||_F <= tol ||R||_F. Returns the CG iterations
-  /// (max over the 3 components).
+  /// Consistent mass. Stops when ||R - M q||_F <= tol ||R||_F. Returns the CG iterations.
+  /// Initial guess: the lumped solution, or the incoming q if set_warm_start(true) and q has
+  /// the right size (e.g. the previous stage's load).
   int solve(const Points& x, const Points& R, Points& q, double tol = 1e-12);
   /// APPROXIMATION: lumped (row-sum) mass, q_i = R_i / (sum of A_e/3 around i). First-order
   /// accurate only; it does not satisfy the Galerkin relation with the element forces.
@@ -24,13 +25,14 @@ class LoadRecovery {
   const SpMatR& assemble(const Points& x);
   const SpMatR& mass() const { return M_; }
   double last_relative_residual() const { return relres_; }
+  void set_warm_start(bool on) { warm_start_ = on; }
 
  private:
   Topology topo_;
   SpMatR M_;
-  std::vector<double> area_, lumped_, b_, y_, partial_;
-  BlockPcg pcg_{1};
+  std::vector<double> area_, lumped_, partial_, bbpart_;
   double relres_ = 0;
+  bool warm_start_ = false;
   // work vectors for the 3-column CG
   std::vector<double> r_, z_, p_, Ap_;
 };
