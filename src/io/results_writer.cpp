@@ -126,7 +126,7 @@ ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
     f.create_group("steps");
     f.close();
   });
-  rewrite_xdmf();  // an empty collection: ParaView can open the file from the start
+  rewrite_xdmf();  // removes a run.xmf left by an earlier run in this folder
 }
 
 ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
@@ -262,8 +262,16 @@ void ResultsWriter::write_timings(const nlohmann::json& table) {
 }
 
 void ResultsWriter::rewrite_xdmf() const {
-  write_file_atomically(s_->folder / kRunXdmf,
-                        render_xdmf(kRunH5, s_->num_nodes, s_->num_triangles, s_->steps));
+  const fs::path path = s_->folder / kRunXdmf;
+  if (s_->steps.empty()) {
+    // ParaView 5.11's XDMF Reader crashes (SIGSEGV) on an empty temporal collection: until
+    // there is a step, there is no run.xmf.
+    std::error_code ec;
+    fs::remove(path, ec);
+    if (ec) throw std::runtime_error("cannot remove '" + path.string() + "': " + ec.message());
+    return;
+  }
+  write_file_atomically(path, render_xdmf(kRunH5, s_->num_nodes, s_->num_triangles, s_->steps));
 }
 
 const fs::path& ResultsWriter::folder() const { return s_->folder; }

@@ -91,8 +91,8 @@ TEST(ResultsWriter, RunFileHoldsMeshAndMetadata) {
   EXPECT_EQ(meta.attribute_string("created_utc").size(), 20u);  // 2026-11-22T02:50:00Z
   EXPECT_TRUE(meta.has_attribute("hostname"));
   EXPECT_TRUE(f.children() == (std::vector<std::string>{"mesh", "metadata", "steps"}));
-  // An empty but valid XDMF exists from the start.
-  EXPECT_TRUE(tags_balanced(read_text(dir / "run.xmf")));
+  // No run.xmf before the first step: ParaView 5.11's XDMF Reader crashes on an empty collection.
+  EXPECT_FALSE(std::filesystem::exists(dir / "run.xmf"));
 }
 
 TEST(ResultsWriter, XdmfAfterThreeStepsIsWellFormedAndPointsAtExistingDatasets) {
@@ -219,6 +219,23 @@ TEST(ResultsWriter, RestartTruncatesLaterStepsAndRows) {
             "t,D12\n0,0\n0.1,0.01\n0.2,0.02\n0.30000000000000004,0.03\n");
   h5::File f = h5::File::open(dir / "run.h5");
   EXPECT_EQ(f.open_group("steps").children().size(), 4u);
+}
+
+TEST(ResultsWriter, RestartBeforeTheFirstStepEmptiesTheSeries) {
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  {
+    ResultsWriter w(dir.path(), mesh, metadata());
+    write_test_step(w, mesh, 0.5);
+    w.append_row({{"t", 0.5}});
+  }
+  ResultsWriter w = ResultsWriter::reopen(dir.path(), 0.25);
+  EXPECT_EQ(w.num_steps(), 0u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "run.xmf"));  // no empty collection for ParaView
+  EXPECT_EQ(read_text(dir / "timeseries.csv"), "t\n");
+  EXPECT_FALSE(h5::File::open(dir / "run.h5").exists("metadata/restarts"));  // no metadata given
+  write_test_step(w, mesh, 0.5);
+  EXPECT_EQ(count_uniform_grids(read_text(dir / "run.xmf")), 1u);
 }
 
 TEST(ResultsWriter, WritesWhileAnotherProcessHoldsRunFileOpen) {

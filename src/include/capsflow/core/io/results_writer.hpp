@@ -4,7 +4,8 @@
 //   DIR/run.h5          /mesh/triangles (int32 M×3), /mesh/reference_positions (float64 N×3),
 //                       /metadata, /steps/<k>/{positions, <fields>} with attribute `time`,
 //                       /timing (written at the end)
-//   DIR/run.xmf         XDMF index for ParaView, rewritten atomically after every step.
+//   DIR/run.xmf         XDMF index for ParaView, rewritten atomically after every step; absent
+//                       while there is no step (ParaView's XDMF Reader crashes on an empty one).
 //                       ParaView users: open run.xmf with the "XDMF Reader" (see xdmf.hpp).
 //   DIR/timeseries.csv  one row of scalars per append_row (see timeseries_csv.hpp)
 //   DIR/summary.json    written atomically by write_summary
