@@ -128,7 +128,8 @@ CheckpointState read_checkpoint(const fs::path& path) {
     if (x0.cols() != 3) {
       fail(name, fmt::format("reference_positions has {} columns, expected 3", x0.cols()));
     }
-    if (tri.cols() != 3) fail(name, fmt::format("triangles has {} columns, expected 3", tri.cols()));
+    if (tri.cols() != 3)
+      fail(name, fmt::format("triangles has {} columns, expected 3", tri.cols()));
     s.positions = x;
     s.reference_positions = x0;
     s.triangles = tri;

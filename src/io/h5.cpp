@@ -103,11 +103,17 @@ std::string library_version() {
 }
 
 template <>
-hid_t Location::native_type<double>() { return H5T_NATIVE_DOUBLE; }
+hid_t Location::native_type<double>() {
+  return H5T_NATIVE_DOUBLE;
+}
 template <>
-hid_t Location::native_type<int>() { return H5T_NATIVE_INT; }
+hid_t Location::native_type<int>() {
+  return H5T_NATIVE_INT;
+}
 template <>
-hid_t Location::native_type<std::int64_t>() { return H5T_NATIVE_INT64; }
+hid_t Location::native_type<std::int64_t>() {
+  return H5T_NATIVE_INT64;
+}
 
 // ---- Location ----
 
@@ -176,8 +182,8 @@ void Location::remove(const std::string& name) {
   if (H5Ldelete(id(), name.c_str(), H5P_DEFAULT) < 0) fail("cannot remove", name);
 }
 
-void Location::write_raw(const std::string& name, hid_t mem_type,
-                         const std::vector<hsize_t>& dims, const void* data) {
+void Location::write_raw(const std::string& name, hid_t mem_type, const std::vector<hsize_t>& dims,
+                         const void* data) {
   if (exists(name)) remove(name);
   hid_t file_type = H5T_IEEE_F64LE;
   if (mem_type == H5T_NATIVE_INT) file_type = H5T_STD_I32LE;
@@ -287,7 +293,9 @@ std::string Location::read_string(const std::string& name) const {
   bool ok = false;
   std::string s = read_fixed_string(
       type.get(),
-      [&](hid_t mem, char* buf) { return H5Dread(ds.get(), mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf); },
+      [&](hid_t mem, char* buf) {
+        return H5Dread(ds.get(), mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf);
+      },
       ok);
   if (!ok) fail("cannot read as a fixed-length string the dataset", name);
   return s;

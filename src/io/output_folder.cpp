@@ -23,7 +23,8 @@ bool starts_with(const std::string& s, const std::string& prefix) {
 }
 
 bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace
@@ -34,10 +35,12 @@ bool is_capsflow_output_name(const std::string& name) {
   const std::string base = tmp == std::string::npos ? name : name.substr(0, tmp);
   if (tmp != std::string::npos) {
     const std::string pid = name.substr(tmp + 5);
-    if (pid.empty() || !std::all_of(pid.begin(), pid.end(), [](char c) { return c >= '0' && c <= '9'; })) return false;
+    if (pid.empty() ||
+        !std::all_of(pid.begin(), pid.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return false;
   }
-  static const char* const fixed[] = {"run.h5", "run.xmf", "timeseries.csv", "summary.json",
-                                      "log", "capsflow.log"};
+  static const char* const fixed[] = {"run.h5",       "run.xmf", "timeseries.csv",
+                                      "summary.json", "log",     "capsflow.log"};
   for (const char* f : fixed) {
     if (base == f) return true;
   }
@@ -52,8 +55,8 @@ void check_writable(const fs::path& dir) {
   }
   ::close(fd);
   if (::unlink(probe.c_str()) != 0) {
-    fail("output folder " + quoted(dir) + " is not writable: cannot remove a probe file: " +
-         std::strerror(errno));
+    fail("output folder " + quoted(dir) +
+         " is not writable: cannot remove a probe file: " + std::strerror(errno));
   }
 }
 
@@ -99,7 +102,8 @@ PreparedFolder prepare_output_folder(const fs::path& dir, bool overwrite) {
 PreparedFolder open_output_folder_for_restart(const fs::path& dir) {
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
-  if (!fs::exists(st)) fail("cannot restart in output folder " + quoted(dir) + ": it does not exist");
+  if (!fs::exists(st))
+    fail("cannot restart in output folder " + quoted(dir) + ": it does not exist");
   if (!fs::is_directory(st)) fail("output path " + quoted(dir) + " exists and is not a folder");
   check_writable(dir);
   return PreparedFolder{dir, {}, {}};

@@ -22,8 +22,8 @@ struct ResultsWriter::State {
   fs::path folder;
   Eigen::Index num_nodes = 0;
   Eigen::Index num_triangles = 0;
-  std::vector<XdmfStep> steps;  // in time order; mirrors /steps in run.h5
-  std::int64_t next_index = 0;  // k of the next /steps/<k>
+  std::vector<XdmfStep> steps;       // in time order; mirrors /steps in run.h5
+  std::int64_t next_index = 0;       // k of the next /steps/<k>
   std::optional<TimeseriesCsv> csv;  // opened on the first row
 
   fs::path h5_path() const { return folder / kRunH5; }
@@ -150,30 +150,32 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
     // Rebuild the step list from the file; drop the steps after the restart time.
     std::vector<std::pair<std::int64_t, XdmfStep>> found;
     {
-    h5::Group steps = f.require_group("steps");
-    for (const std::string& name : steps.children()) {
-      if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) {
-        throw std::runtime_error("'" + s->h5_path().string() + "': unexpected group /steps/" +
-                                 name + " (not written by capsflow?)");
+      h5::Group steps = f.require_group("steps");
+      for (const std::string& name : steps.children()) {
+        if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) {
+          throw std::runtime_error("'" + s->h5_path().string() + "': unexpected group /steps/" +
+                                   name + " (not written by capsflow?)");
+        }
+        h5::Group g = steps.open_group(name);
+        const std::int64_t k = std::stoll(name);
+        const double t = g.attribute_double("time");
+        if (!(t <= t_restart)) {
+          steps.remove(name);
+          continue;
+        }
+        XdmfStep st{t, step_group(k), {}};
+        for (const std::string& field : g.children()) {
+          if (field == "positions") continue;
+          const std::vector<hsize_t> dims = g.shape(field);
+          const int comps = dims.size() == 1 ? 1 : int(dims[1]);
+          st.fields.push_back(
+              {field, comps, !dims.empty() && Eigen::Index(dims[0]) != s->num_nodes});
+        }
+        found.emplace_back(k, std::move(st));
       }
-      h5::Group g = steps.open_group(name);
-      const std::int64_t k = std::stoll(name);
-      const double t = g.attribute_double("time");
-      if (!(t <= t_restart)) {
-        steps.remove(name);
-        continue;
-      }
-      XdmfStep st{t, step_group(k), {}};
-      for (const std::string& field : g.children()) {
-        if (field == "positions") continue;
-        const std::vector<hsize_t> dims = g.shape(field);
-        const int comps = dims.size() == 1 ? 1 : int(dims[1]);
-        st.fields.push_back({field, comps, !dims.empty() && Eigen::Index(dims[0]) != s->num_nodes});
-      }
-      found.emplace_back(k, std::move(st));
     }
-    }
-    std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::sort(found.begin(), found.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
     for (auto& [k, st] : found) {
       s->steps.push_back(std::move(st));
       s->next_index = k + 1;
@@ -194,14 +196,16 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
 
 void ResultsWriter::write_step(double t, const Points& positions, const NamedFields& nodal_fields) {
   State& s = *s_;
-  if (!std::isfinite(t)) throw std::invalid_argument(fmt::format("write_step: time {} is not finite", t));
+  if (!std::isfinite(t))
+    throw std::invalid_argument(fmt::format("write_step: time {} is not finite", t));
   if (!s.steps.empty() && !(t > s.steps.back().time)) {
     throw std::invalid_argument(fmt::format(
         "write_step: time {} is not after the last output time {}", t, s.steps.back().time));
   }
   if (positions.rows() != s.num_nodes) {
-    throw std::invalid_argument(fmt::format("write_step: positions have {} rows, the mesh has {} nodes",
-                                            positions.rows(), s.num_nodes));
+    throw std::invalid_argument(
+        fmt::format("write_step: positions have {} rows, the mesh has {} nodes", positions.rows(),
+                    s.num_nodes));
   }
   std::set<std::string> seen;
   XdmfStep st{t, step_group(s.next_index), {}};
@@ -212,9 +216,9 @@ void ResultsWriter::write_step(double t, const Points& positions, const NamedFie
     }
     const Eigen::Index c = values.cols();
     if (values.rows() != s.num_nodes || (c != 1 && c != 3 && c != 6 && c != 9)) {
-      throw std::invalid_argument(fmt::format(
-          "write_step: field '{}' is {}x{}; expected {} rows and 1, 3, 6 or 9 columns", name,
-          values.rows(), c, s.num_nodes));
+      throw std::invalid_argument(
+          fmt::format("write_step: field '{}' is {}x{}; expected {} rows and 1, 3, 6 or 9 columns",
+                      name, values.rows(), c, s.num_nodes));
     }
     st.fields.push_back({name, int(c), false});
   }

@@ -1,11 +1,10 @@
 // atomic_file: content replaced whole, no temporary left behind, errors name the path.
-#include "capsflow/core/io/atomic_file.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <vector>
 
+#include "capsflow/core/io/atomic_file.hpp"
 #include "temp_dir.hpp"
 
 namespace capsflow::io {
@@ -47,8 +46,8 @@ TEST(AtomicFile, ErrorNamesThePathAndTheReason) {
   } catch (const std::runtime_error& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find((dir / "plain").string()), std::string::npos) << msg;  // names the path
-    EXPECT_NE(msg.find("Not a directory"), std::string::npos) << msg;          // strerror(ENOTDIR)
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;                       // one line
+    EXPECT_NE(msg.find("Not a directory"), std::string::npos) << msg;         // strerror(ENOTDIR)
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;                      // one line
   }
 }
 

@@ -1,10 +1,9 @@
 // Checkpoints: bit-exact round trip, two-slot rotation, validation and damaged files.
-#include "capsflow/core/io/checkpoint.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "capsflow/core/io/checkpoint.hpp"
 #include "capsflow/core/io/h5.hpp"
 #include "temp_dir.hpp"
 
@@ -129,8 +128,9 @@ TEST(Checkpoint, NewerFormatAndInconsistentShapesAreRejected) {
     h5::File f = h5::File::open(path, h5::File::Mode::read_write);
     f.write_matrix("reference_positions", Points::Zero(5, 3));  // N = 6 elsewhere
   }
-  EXPECT_NE(error_of([&] { read_checkpoint(path); })
-                .find("reference_positions has 5 rows, positions has 6"),
+  EXPECT_NE(error_of([&] {
+              read_checkpoint(path);
+            }).find("reference_positions has 5 rows, positions has 6"),
             std::string::npos);
 
   write_checkpoint(path, sample_state(1));
@@ -152,8 +152,9 @@ TEST(Checkpoint, NonFiniteStateIsNotWrittenAndKeepsTheLastGoodOne) {
   write_checkpoint(path, sample_state(1));
   CheckpointState bad = sample_state(2);
   bad.positions(3, 0) = INFINITY;
-  EXPECT_NE(error_of([&] { write_checkpoint(path, bad); }).find("positions contain NaN or infinity"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { write_checkpoint(path, bad); }).find("positions contain NaN or infinity"),
+      std::string::npos);
   bad = sample_state(2);
   bad.triangles(0, 0) = 6;  // N = 6: out of range
   EXPECT_THROW(write_checkpoint(path, bad), std::runtime_error);

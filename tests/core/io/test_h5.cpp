@@ -1,11 +1,10 @@
 // h5: dataset and attribute round trips, existence and listing, errors as exceptions.
-#include "capsflow/core/io/h5.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
+#include "capsflow/core/io/h5.hpp"
 #include "capsflow/core/types.hpp"
 #include "temp_dir.hpp"
 
@@ -68,7 +67,7 @@ TEST(H5, AttributesRoundTripAndReplace) {
   h5::File f = h5::File::open(path);
   h5::Group g = f.open_group("steps/000001");
   EXPECT_EQ(g.attribute_double("time"), 0.30000000000000004);  // exact round trip
-  EXPECT_EQ(g.attribute_int("count"), std::int64_t{1} << 40);   // int64, not truncated to 32 bits
+  EXPECT_EQ(g.attribute_int("count"), std::int64_t{1} << 40);  // int64, not truncated to 32 bits
   EXPECT_EQ(g.attribute_int("small"), 3);
   EXPECT_EQ(g.attribute_string("name"), "replaced");
   EXPECT_TRUE(std::isnan(f.attribute_double("nan")));

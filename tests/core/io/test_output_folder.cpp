@@ -1,9 +1,8 @@
 // output_folder: refuses non-empty folders without overwrite (touching nothing), removes only
 // capsflow's own files with overwrite, reports unwritable paths up front.
-#include "capsflow/core/io/output_folder.hpp"
-
 #include <gtest/gtest.h>
 
+#include "capsflow/core/io/output_folder.hpp"
 #include "temp_dir.hpp"
 
 namespace capsflow::io {
@@ -35,8 +34,9 @@ TEST(OutputFolder, RefusesNonEmptyFolderAndLeavesItUntouched) {
     prepare_output_folder(dir.path(), false);
     FAIL() << "expected an exception";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), "output folder '" + dir.path().string() +
-                                         "' exists and is not empty; pass --overwrite to replace it");
+    EXPECT_EQ(std::string(e.what()),
+              "output folder '" + dir.path().string() +
+                  "' exists and is not empty; pass --overwrite to replace it");
   }
   EXPECT_EQ(listing(dir.path()), (std::vector<std::string>{"notes.txt", "run.h5"}));
   EXPECT_EQ(read_text(dir / "run.h5"), "previous results");  // not even truncated
@@ -45,8 +45,8 @@ TEST(OutputFolder, RefusesNonEmptyFolderAndLeavesItUntouched) {
 TEST(OutputFolder, OverwriteRemovesOnlyCapsflowFiles) {
   TempDir dir;
   for (const char* f : {"run.h5", "run.xmf", "timeseries.csv", "summary.json", "checkpoint.h5",
-                        "checkpoint.prev.h5", "log", "run.xmf.tmp.4242", "notes.txt",
-                        "run.h5.bak", "analysis.py"}) {
+                        "checkpoint.prev.h5", "log", "run.xmf.tmp.4242", "notes.txt", "run.h5.bak",
+                        "analysis.py"}) {
     write_text(dir / f, "x");
   }
   std::filesystem::create_directory(dir / "figures");
@@ -54,7 +54,8 @@ TEST(OutputFolder, OverwriteRemovesOnlyCapsflowFiles) {
   const PreparedFolder p = prepare_output_folder(dir.path(), true);
   EXPECT_EQ(listing(dir.path()),
             (std::vector<std::string>{"analysis.py", "figures", "notes.txt", "run.h5.bak"}));
-  EXPECT_EQ(read_text(dir / "figures/run.h5"), "a user's file inside a sub-folder");  // no recursion
+  EXPECT_EQ(read_text(dir / "figures/run.h5"),
+            "a user's file inside a sub-folder");  // no recursion
   EXPECT_EQ(p.removed.size(), 8u);
   EXPECT_EQ(p.kept.size(), 4u);
 }

@@ -1,7 +1,5 @@
 // ResultsWriter: run.h5 layout, XDMF well-formed and consistent with run.h5, CSV, summary,
 // timings, restart truncation, and writing while another process holds run.h5 open.
-#include "capsflow/core/io/results_writer.hpp"
-
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,6 +7,7 @@
 #include <regex>
 
 #include "capsflow/core/io/h5.hpp"
+#include "capsflow/core/io/results_writer.hpp"
 #include "temp_dir.hpp"
 
 namespace capsflow::io {
@@ -151,8 +150,11 @@ TEST(ResultsWriter, RejectsBadSteps) {
 TEST(ResultsWriter, SummaryAndTimings) {
   TempDir dir;
   ResultsWriter w(dir.path(), tetrahedron(), metadata());
-  const nlohmann::json summary = {{"t", 5.0}, {"steps", 50000}, {"steady", true},
-                                  {"D12", 0.123456789012345678}, {"L", {1.1, 0.9, 1.0}}};
+  const nlohmann::json summary = {{"t", 5.0},
+                                  {"steps", 50000},
+                                  {"steady", true},
+                                  {"D12", 0.123456789012345678},
+                                  {"L", {1.1, 0.9, 1.0}}};
   w.write_summary(summary);
   EXPECT_EQ(nlohmann::json::parse(read_text(dir / "summary.json")), summary);  // doubles exact
   w.write_timings({{"step", {{"fluid", 1.5}, {"shell", 0.25}}}, {"total", 2.0}});
@@ -191,8 +193,9 @@ TEST(ResultsWriter, RestartTruncatesLaterStepsAndRows) {
       w.append_row({{"t", t}, {"D12", 0.01 * k}});
     }
   }
-  ResultsWriter w = ResultsWriter::reopen(dir.path(), 0.2, {{"command_line", "capsflow run --restart"}});
-  EXPECT_EQ(w.num_steps(), 3u);        // t = 0, 0.1, 0.2 (0.1 * 2 == 0.2 exactly)
+  ResultsWriter w =
+      ResultsWriter::reopen(dir.path(), 0.2, {{"command_line", "capsflow run --restart"}});
+  EXPECT_EQ(w.num_steps(), 3u);  // t = 0, 0.1, 0.2 (0.1 * 2 == 0.2 exactly)
   EXPECT_EQ(w.last_time(), 0.1 * 2);
   EXPECT_EQ(w.num_nodes(), 4);
   {

@@ -1,11 +1,10 @@
 // timeseries.csv: header from the first row, exact numbers, restart truncation.
-#include "capsflow/core/io/timeseries_csv.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
 
+#include "capsflow/core/io/timeseries_csv.hpp"
 #include "temp_dir.hpp"
 
 namespace capsflow::io {

@@ -68,7 +68,7 @@ class Location {
   Group create_group(const std::string& name);  // intermediate groups are created too
   Group open_group(const std::string& name) const;
   Group require_group(const std::string& name);  // open, or create if missing
-  void remove(const std::string& name);           // unlink (HDF5 1.10 does not reclaim the space)
+  void remove(const std::string& name);          // unlink (HDF5 1.10 does not reclaim the space)
 
   // Datasets. Writing replaces an existing dataset of the same name.
   template <typename Derived>

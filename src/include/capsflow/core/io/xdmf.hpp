@@ -16,9 +16,9 @@
 namespace capsflow::io {
 
 struct XdmfField {
-  std::string name;     // dataset name inside the step group, also the ParaView array name
-  int components = 1;   // 1 Scalar, 3 Vector, 6 Tensor6, 9 Tensor
-  bool cell = false;    // Center="Cell" (one value per triangle) instead of "Node"
+  std::string name;    // dataset name inside the step group, also the ParaView array name
+  int components = 1;  // 1 Scalar, 3 Vector, 6 Tensor6, 9 Tensor
+  bool cell = false;   // Center="Cell" (one value per triangle) instead of "Node"
 };
 
 struct XdmfStep {
