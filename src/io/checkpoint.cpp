@@ -27,6 +27,47 @@ bool all_finite(const Eigen::DenseBase<Derived>& m) {
   return m.size() == 0 || m.derived().array().isFinite().all();
 }
 
+// FNV-1a over the state's bytes: HDF5 (contiguous datasets) has no checksum of its own, and a
+// damaged checkpoint must not silently restart a run from wrong numbers.
+class Fnv1a {
+ public:
+  void add(const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h_ = (h_ ^ p[i]) * 0x100000001b3ULL;
+  }
+  template <typename Derived>
+  void add_matrix(const Eigen::PlainObjectBase<Derived>& m) {
+    const std::int64_t shape[2] = {m.rows(), m.cols()};
+    add(shape, sizeof shape);
+    add(m.data(), sizeof(typename Derived::Scalar) * std::size_t(m.size()));
+  }
+  void add_string(const std::string& s) {
+    const std::uint64_t n = s.size();
+    add(&n, sizeof n);
+    add(s.data(), s.size());
+  }
+  std::string hex() const { return fmt::format("{:016x}", h_); }
+
+ private:
+  std::uint64_t h_ = 0xcbf29ce484222325ULL;
+};
+
+std::string checksum(const CheckpointState& s) {
+  Fnv1a h;
+  h.add(&s.step, sizeof s.step);
+  h.add(&s.t, sizeof s.t);
+  h.add(&s.dt, sizeof s.dt);
+  h.add_matrix(s.positions);
+  h.add_matrix(s.reference_positions);
+  h.add_matrix(s.triangles);
+  h.add_matrix(s.wall_state);
+  h.add_matrix(s.history);
+  for (const std::string* str : {&s.scene_toml, &s.scene_resolved, &s.version, &s.extra}) {
+    h.add_string(*str);
+  }
+  return h.hex();
+}
+
 void write_file(const fs::path& tmp, const CheckpointState& s) {
   h5::File f = h5::File::create(tmp);
   f.set_attribute("format", kFormatName);
@@ -43,6 +84,7 @@ void write_file(const fs::path& tmp, const CheckpointState& s) {
   f.write_string("scene_toml", s.scene_toml);
   f.write_string("scene_resolved", s.scene_resolved);
   f.write_string("extra", s.extra);
+  f.set_attribute("checksum", checksum(s));
   f.close();
 }
 
@@ -108,6 +150,7 @@ CheckpointState read_checkpoint(const fs::path& path) {
   }
   h5::File& f = *file;
   CheckpointState s;
+  std::string stored_checksum;
   try {
     if (!f.has_attribute("format") || f.attribute_string("format") != kFormatName) {
       fail(name, "not a capsflow checkpoint (attribute 'format' missing or wrong)");
@@ -138,12 +181,15 @@ CheckpointState read_checkpoint(const fs::path& path) {
     s.scene_toml = f.read_string("scene_toml");
     s.scene_resolved = f.read_string("scene_resolved");
     s.extra = f.read_string("extra");
+    stored_checksum = f.attribute_string("checksum");
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
     if (what.rfind("checkpoint '", 0) == 0) throw;
     fail(name, what);  // an HDF5 read error: missing dataset, wrong type, damaged data
   }
+  // Shapes and values first (the more specific message), then the bytes.
   validate_checkpoint(s, name);
+  if (stored_checksum != checksum(s)) fail(name, "checksum mismatch: the file is damaged");
   return s;
 }
 

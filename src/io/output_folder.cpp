@@ -61,6 +61,7 @@ void check_writable(const fs::path& dir) {
 }
 
 PreparedFolder prepare_output_folder(const fs::path& dir, bool overwrite) {
+  if (dir.empty()) fail("the output folder path is empty");
   PreparedFolder out{dir, {}, {}};
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);

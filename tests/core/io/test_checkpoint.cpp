@@ -146,6 +146,20 @@ TEST(Checkpoint, NewerFormatAndInconsistentShapesAreRejected) {
   EXPECT_NE(msg.find("extra"), std::string::npos) << msg;  // the missing dataset is named
 }
 
+TEST(Checkpoint, ChangedNumbersAreDetectedByTheChecksum) {
+  TempDir dir;
+  const auto path = dir / "checkpoint.h5";
+  write_checkpoint(path, sample_state(1));
+  {
+    h5::File f = h5::File::open(path, h5::File::Mode::read_write);
+    Eigen::VectorXd w = f.read_vector<double>("wall_state");
+    w(5) = std::nextafter(w(5), 2.0);  // one ulp: still finite and well-shaped
+    f.write_vector("wall_state", w);
+  }
+  const std::string msg = error_of([&] { read_checkpoint(path); });
+  EXPECT_NE(msg.find("checksum mismatch"), std::string::npos) << msg;
+}
+
 TEST(Checkpoint, NonFiniteStateIsNotWrittenAndKeepsTheLastGoodOne) {
   TempDir dir;
   const auto path = dir / "checkpoint.h5";

@@ -8,7 +8,8 @@
 // find_latest_checkpoint picks the right one.
 //
 // File layout (HDF5, format_version 1):
-//   attributes on "/": format = "capsflow-checkpoint", format_version, step, t, dt, version
+//   attributes on "/": format = "capsflow-checkpoint", format_version, step, t, dt, version,
+//                      checksum (FNV-1a 64 of the whole state, hex; verified on read)
 //   datasets: positions [N,3], reference_positions [N,3], triangles int32 [M,3],
 //             wall_state [n] (opaque), history [r,c] (opaque), scene_toml, scene_resolved,
 //             extra (strings)
@@ -47,7 +48,8 @@ std::filesystem::path previous_checkpoint_path(const std::filesystem::path& path
 // rotation), then writes it atomically as described above. Throws std::runtime_error.
 void write_checkpoint(const std::filesystem::path& path, const CheckpointState& state);
 
-// Reads and validates (format and version, dataset shapes, index ranges, finite numbers).
+// Reads and validates (format and version, checksum, dataset shapes, index ranges, finite
+// numbers).
 // Throws std::runtime_error with one line: "checkpoint '<path>': <problem>".
 CheckpointState read_checkpoint(const std::filesystem::path& path);
 

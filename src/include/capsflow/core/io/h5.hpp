@@ -130,6 +130,14 @@ class Location {
                 std::vector<hsize_t>& dims, std::vector<char>& buffer, std::size_t elem) const;
 };
 
+// Defined in h5.cpp; declared here so that the templates above use them (not a generic one).
+template <>
+hid_t Location::native_type<double>();
+template <>
+hid_t Location::native_type<int>();
+template <>
+hid_t Location::native_type<std::int64_t>();
+
 class Group : public Location {
   friend class Location;
   using Location::Location;
