@@ -415,8 +415,9 @@ File File::open(const fs::path& path, Mode mode, bool ignore_lock_conflicts) {
     if (!ignore_lock_conflicts || msg.find("lock") == std::string::npos) {
       throw std::runtime_error("HDF5: cannot open file '" + path.string() + "': " + msg);
     }
-    // A reader holds the file (HDF5 >= 1.10 locking). Writing anyway is safe for us because we
-    // only append groups and close after each step; warn so users know why.
+#if H5_VERSION_GE(1, 10, 7)  // H5Pset_file_locking appeared in 1.10.7
+    // A reader holds the file (HDF5 >= 1.10 locking). Losing hours of run time is worse than a
+    // reader that may see a half-written step and must reload, so write without the lock.
     static std::atomic<bool> warned{false};  // once per run, not at every output step
     if (!warned.exchange(true)) {
       spdlog::warn("{} is locked by another program (ParaView?); writing without HDF5 file locking",
@@ -426,6 +427,10 @@ File File::open(const fs::path& path, Mode mode, bool ignore_lock_conflicts) {
     H5Pset_file_locking(fapl.get(), 0, 1);
     f = H5Fopen(path.c_str(), flags, fapl.get());
     if (f < 0) fail_file("cannot open file", path);
+#else
+    throw std::runtime_error("HDF5: cannot open file '" + path.string() + "': " + msg +
+                             " (set HDF5_USE_FILE_LOCKING=FALSE to write while it is read)");
+#endif
   }
   return File(Handle(f, H5Fclose), std::make_shared<const std::string>(path.string()), "/");
 }

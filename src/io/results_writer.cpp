@@ -117,14 +117,16 @@ ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
     h5::File f = h5::File::create(tmp);
     f.write_matrix("mesh/triangles", reference_mesh.triangles);
     f.write_matrix("mesh/reference_positions", reference_mesh.vertices);
-    h5::Group meta = f.create_group("metadata");
-    write_metadata(meta, metadata);
-    meta.set_attribute("schema_version", kOutputSchemaVersion);
-    meta.set_attribute("hdf5_version", h5::library_version());
-    meta.set_attribute("created_utc", utc_now());
-    meta.set_attribute("hostname", host_name());
+    {
+      h5::Group meta = f.create_group("metadata");
+      write_metadata(meta, metadata);
+      meta.set_attribute("schema_version", kOutputSchemaVersion);
+      meta.set_attribute("hdf5_version", h5::library_version());
+      meta.set_attribute("created_utc", utc_now());
+      meta.set_attribute("hostname", host_name());
+    }
     f.create_group("steps");
-    f.close();
+    f.close();  // every object handle is closed by now, so this really closes the file
   });
   rewrite_xdmf();  // removes a run.xmf left by an earlier run in this folder
 }
