@@ -1,0 +1,92 @@
+#pragma once
+// The single-layer Stokeslet operator on the capsule surface (paper Eq. 34, numerics.md §4):
+//
+//   u(x) = (1/8πμ) ∫_S G(x − y)·q(y) dS_y,   G(r) = I/|r| + r rᵀ/|r|³,  r = x − y,  μ = 1,
+//
+// for a P1 load q on the P1 (flat-facet) surface; the node velocity is v = v∞ − u.
+// Discretisation at node x_i:
+//   far field  — the 3 interior Gauss points of every element as point sources, f_g = (A_e/3) q(y_g),
+//                summed by capsflow::fmm (FMM or direct; both compute the same sum);
+//   near field — for the elements touching x_i, the point-source contribution is replaced by the
+//                exact integral (Duffy, singular_element_integral); for the next ring of
+//                elements, by a refined rule (the 3-point rule's O(h) error comes from them).
+// Both back ends therefore compute the same discrete operator, to the FMM tolerance.
+// Nodal point sources are never used (O(h) error, numerics.md §4.4).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capsflow/core/quadrature.hpp"
+#include "capsflow/core/types.hpp"
+
+namespace capsflow {
+namespace fmm {
+struct Stokeslet;
+template <class K>
+class Fmm;
+}  // namespace fmm
+
+enum class FarFieldBackend { Direct, Fmm };
+const char* to_string(FarFieldBackend b);
+
+struct SingleLayerOptions {
+  std::string backend = "auto";  // auto | fmm | direct
+  double tolerance = 1e-6;       // FMM relative accuracy (ignored by direct)
+  int singular_points = 16;      // Gauss–Legendre points of the Duffy line integral
+  int near_ring_depth = 2;       // near ring (elements sharing a vertex with the touching ones):
+                                 // refined 7-point rule on 4^depth parts; -1 disables the ring
+  int threads = 0;               // 0 = OpenMP default
+};
+
+struct SingleLayerTimings {
+  double sources = 0;  // Gauss points and strengths
+  double far = 0;      // FMM setup + evaluation, or direct summation
+  double near = 0;     // singular corrections
+  long evaluations = 0;
+};
+
+// Off-surface evaluation report: per target, the distance to the surface relative to the size
+// of the nearest element; targets with ratio < near_ratio get an adaptive quadrature on the
+// nearby elements (reported as refined), those below min_ratio are too close to trust.
+struct OffSurfaceReport {
+  std::vector<double> distance_ratio;
+  long refined = 0, too_close = 0;
+  static constexpr double near_ratio = 2.0, min_ratio = 1e-3;
+};
+
+class SingleLayer {
+ public:
+  SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt = {});
+  ~SingleLayer();
+  SingleLayer(const SingleLayer&) = delete;
+  SingleLayer& operator=(const SingleLayer&) = delete;
+
+  // u_i at every node x_i (u is resized to N×3).
+  void apply(const Points& x, const Points& q, Points& u);
+  // u at arbitrary targets off the surface (velocity field around the capsule).
+  void evaluate_at(const Points& x, const Points& q, const Points& targets, Points& u, OffSurfaceReport* report = nullptr);
+
+  FarFieldBackend backend() const { return backend_; }
+  const std::string& backend_reason() const { return reason_; }
+  int fmm_order() const;
+  const SingleLayerTimings& timings() const { return timings_; }
+
+ private:
+  void build_sources(const Points& x, const Points& q);
+  void far_field(const double* targets, Eigen::Index n_targets, double* out);
+  void correct_touching_elements(const Points& x, const Points& q, Points& u) const;
+
+  Triangles tri_;
+  Eigen::Index n_nodes_;
+  SingleLayerOptions opt_;
+  FarFieldBackend backend_;
+  std::string reason_;
+  GaussLegendre rule_;
+  std::vector<int> node_elem_start_, node_elem_;  // CSR: elements touching each node
+  std::vector<int> ring_start_, ring_;             // CSR: next ring of elements around each node
+  std::vector<double> src_, strength_;             // Gauss points and strengths (xyz interleaved)
+  std::unique_ptr<fmm::Fmm<fmm::Stokeslet>> fmm_;
+  SingleLayerTimings timings_;
+};
+
+}  // namespace capsflow

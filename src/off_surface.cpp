@@ -1,0 +1,134 @@
+// SingleLayer::evaluate_at — the single layer at arbitrary targets off the surface, with a
+// near-surface check: the 3-point rule of an element is accurate only for targets farther than
+// about two element sizes; nearer elements are integrated by adaptive subdivision.
+#include <chrono>
+#include <cmath>
+#include <unordered_map>
+
+#include "capsflow/core/point_triangle.hpp"
+#include "capsflow/core/single_layer.hpp"
+
+namespace capsflow {
+
+namespace {
+
+constexpr double kInv8Pi = 1.0 / (8.0 * M_PI);
+
+// Dunavant's 7-point rule (degree 5) in barycentrics; weights sum to 1.
+constexpr double kA1 = 0.059715871789770, kB1 = 0.470142064105115, kW1 = 0.132394152788506;
+constexpr double kA2 = 0.797426985353087, kB2 = 0.101286507323456, kW2 = 0.125939180544827;
+constexpr double kRule7[7][4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3, 0.225},
+                                 {kA1, kB1, kB1, kW1}, {kB1, kA1, kB1, kW1}, {kB1, kB1, kA1, kW1},
+                                 {kA2, kB2, kB2, kW2}, {kB2, kA2, kB2, kW2}, {kB2, kB2, kA2, kW2}};
+
+struct Element {
+  Vec3 x[3], q[3];
+};
+
+// ∫ over the sub-triangle with parent barycentrics (l0, l1, l2) of G(p − y) q(y) dS_y, refined
+// until the sub-triangle is farther than 4 of its diameters from p (or max depth).
+Vec3 adaptive_integral(const Element& el, const Vec3& p, const Eigen::Matrix3d& bary, double parent_area, int depth) {
+  Vec3 y[3];
+  for (int v = 0; v < 3; ++v) y[v] = bary(v, 0) * el.x[0] + bary(v, 1) * el.x[1] + bary(v, 2) * el.x[2];
+  const double diam = std::max({(y[1] - y[0]).norm(), (y[2] - y[1]).norm(), (y[0] - y[2]).norm()});
+  const double dist = point_triangle_distance(p, y[0], y[1], y[2]);
+  const double area = 0.5 * (y[1] - y[0]).cross(y[2] - y[0]).norm();
+  if (dist > 4 * diam || depth >= 14 || area < 1e-14 * parent_area) {
+    Vec3 sum = Vec3::Zero();
+    if (dist <= 0) return sum;  // target on the element: no finite quadrature (reported as too close)
+    for (const auto& r : kRule7) {
+      const Eigen::RowVector3d lam = r[0] * bary.row(0) + r[1] * bary.row(1) + r[2] * bary.row(2);
+      const Vec3 yq = lam[0] * el.x[0] + lam[1] * el.x[1] + lam[2] * el.x[2];
+      const Vec3 qq = lam[0] * el.q[0] + lam[1] * el.q[1] + lam[2] * el.q[2];
+      sum += r[3] * area * stokeslet_apply(p - yq, qq);
+    }
+    return sum;
+  }
+  const Eigen::RowVector3d m01 = 0.5 * (bary.row(0) + bary.row(1)), m12 = 0.5 * (bary.row(1) + bary.row(2)),
+                           m20 = 0.5 * (bary.row(2) + bary.row(0));
+  Eigen::Matrix3d c[4];
+  c[0] << bary.row(0), m01, m20;
+  c[1] << m01, bary.row(1), m12;
+  c[2] << m20, m12, bary.row(2);
+  c[3] << m01, m12, m20;
+  Vec3 sum = Vec3::Zero();
+  for (const auto& sub : c) sum += adaptive_integral(el, p, sub, parent_area, depth + 1);
+  return sum;
+}
+
+}  // namespace
+
+void SingleLayer::evaluate_at(const Points& x, const Points& q, const Points& targets, Points& u, OffSurfaceReport* report) {
+  build_sources(x, q);
+  const Eigen::Index nt = targets.rows(), m = tri_.rows();
+  u.resize(nt, 3);
+  far_field(targets.data(), nt, u.data());
+
+  // Uniform hash grid of element bounding boxes, cell = 2 × longest edge, so that every element
+  // within 2 of its own sizes of a target overlaps one of the 27 cells around the target.
+  double hmax = 0;
+  for (Eigen::Index e = 0; e < m; ++e)
+    for (int k = 0; k < 3; ++k) hmax = std::max(hmax, (x.row(tri_(e, k)) - x.row(tri_(e, (k + 1) % 3))).norm());
+  const double cell = OffSurfaceReport::near_ratio * hmax;
+  auto cell_of = [cell](double v) { return static_cast<long long>(std::floor(v / cell)); };
+  auto key = [](long long i, long long j, long long k) { return (i * 73856093) ^ (j * 19349663) ^ (k * 83492791); };
+  std::unordered_map<long long, std::vector<int>> grid;
+  for (Eigen::Index e = 0; e < m; ++e) {
+    Eigen::RowVector3d lo = x.row(tri_(e, 0)), hi = lo;
+    for (int k = 1; k < 3; ++k) lo = lo.cwiseMin(x.row(tri_(e, k))), hi = hi.cwiseMax(x.row(tri_(e, k)));
+    for (long long i = cell_of(lo[0]); i <= cell_of(hi[0]); ++i)
+      for (long long j = cell_of(lo[1]); j <= cell_of(hi[1]); ++j)
+        for (long long k = cell_of(lo[2]); k <= cell_of(hi[2]); ++k) grid[key(i, j, k)].push_back(static_cast<int>(e));
+  }
+  std::vector<double> ratio(static_cast<size_t>(nt), std::numeric_limits<double>::infinity());
+  long refined = 0, too_close = 0;
+#pragma omp parallel for schedule(dynamic, 16) reduction(+ : refined, too_close)
+  for (Eigen::Index t = 0; t < nt; ++t) {
+    const Vec3 p = targets.row(t).transpose();
+    const long long ci = cell_of(p[0]), cj = cell_of(p[1]), ck = cell_of(p[2]);
+    std::vector<int> seen;
+    Vec3 corr = Vec3::Zero();
+    bool any = false;
+    for (long long i = ci - 1; i <= ci + 1; ++i)
+      for (long long j = cj - 1; j <= cj + 1; ++j)
+        for (long long k = ck - 1; k <= ck + 1; ++k) {
+          auto it = grid.find(key(i, j, k));
+          if (it == grid.end()) continue;
+          for (int e : it->second) {
+            if (std::find(seen.begin(), seen.end(), e) != seen.end()) continue;
+            seen.push_back(e);
+            Element el;
+            double h = 0;
+            for (int v = 0; v < 3; ++v) {
+              el.x[v] = x.row(tri_(e, v)).transpose();
+              el.q[v] = q.row(tri_(e, v)).transpose();
+            }
+            for (int v = 0; v < 3; ++v) h = std::max(h, (el.x[v] - el.x[(v + 1) % 3]).norm());
+            const double d = point_triangle_distance(p, el.x[0], el.x[1], el.x[2]);
+            ratio[static_cast<size_t>(t)] = std::min(ratio[static_cast<size_t>(t)], d / h);
+            if (d >= OffSurfaceReport::near_ratio * h) continue;
+            any = true;
+            const double area = 0.5 * (el.x[1] - el.x[0]).cross(el.x[2] - el.x[0]).norm();
+            corr += adaptive_integral(el, p, Eigen::Matrix3d::Identity(), area, 0);
+            for (int g = 0; g < 3; ++g) {
+              const size_t o = static_cast<size_t>(9 * e + 3 * g);
+              const Vec3 r = p - Vec3(src_[o], src_[o + 1], src_[o + 2]);
+              if (r.squaredNorm() > 0)  // the far-field sum skipped coincident pairs too
+                corr -= stokeslet_apply(r, Vec3(strength_[o], strength_[o + 1], strength_[o + 2]));
+            }
+          }
+        }
+    if (any) {
+      u.row(t) += kInv8Pi * corr.transpose();
+      ++refined;
+    }
+    if (ratio[static_cast<size_t>(t)] < OffSurfaceReport::min_ratio) ++too_close;
+  }
+  if (report) {
+    report->distance_ratio = std::move(ratio);
+    report->refined = refined;
+    report->too_close = too_close;
+  }
+}
+
+}  // namespace capsflow
