@@ -37,6 +37,8 @@ struct FmmTimings {
   double p2m = 0;       ///< leaf sources -> upward check -> UE
   double m2m = 0;       ///< child UE -> parent UE
   double m2l = 0;       ///< V list: FFTs + Hadamard products
+  double m2l_fft = 0;   ///<   of which forward + inverse FFTs (thread 0's share)
+  double m2l_hadamard = 0;  ///<   of which Hadamard products (thread 0's share)
   double x_list = 0;    ///< X list: P2L (or direct)
   double l2l = 0;       ///< downward check -> DE, parent DE -> child
   double p2p = 0;       ///< U list + W list (M2P or direct) + direct X

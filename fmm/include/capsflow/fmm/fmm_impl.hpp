@@ -30,11 +30,15 @@ inline void par_gemm(const Eigen::MatrixXd& A, const double* B, std::size_t ldb,
                      std::size_t ldc, std::size_t ncols, bool accumulate, int threads) {
   using CMap = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
   using MMap = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
-  constexpr std::size_t kBlock = 32;
-  const long nb = static_cast<long>((ncols + kBlock - 1) / kBlock);
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  // one contiguous block per thread (at least 64 columns): Eigen packs A once per call
+  const std::size_t nthr = std::max<std::size_t>(1, std::min<std::size_t>(threads, (ncols + 63) / 64));
+  const std::size_t kBlock = (ncols + nthr - 1) / nthr;
+  const long nb = static_cast<long>(nthr);
+  if (ncols == 0) return;
+#pragma omp parallel for num_threads(static_cast<int>(nthr)) schedule(static, 1)
   for (long b = 0; b < nb; ++b) {
     const std::size_t c0 = static_cast<std::size_t>(b) * kBlock;
+    if (c0 >= ncols) continue;
     const long m = static_cast<long>(std::min(kBlock, ncols - c0));
     CMap Bm(B + c0 * ldb, A.cols(), m, Eigen::OuterStride<>(static_cast<long>(ldb)));
     MMap Cm(C + c0 * ldc, A.rows(), m, Eigen::OuterStride<>(static_cast<long>(ldc)));
@@ -208,26 +212,41 @@ void Fmm<Kernel>::downward_checks() {
     }
     if (trgs.empty()) continue;
     std::vector<double> sspec(sss * srcs.size()), tspec(tss * trgs.size(), 0.0);
+    // per target: source local indices and offsets, and a work prefix for balancing
+    std::vector<std::size_t> vb(trgs.size() + 1, 0);
+    for (std::size_t j = 0; j < trgs.size(); ++j) vb[j + 1] = vb[j] + T.V.size(trgs[j]);
+    std::vector<int> vsrc(vb.back()), voff(vb.back());
+    for (std::size_t j = 0; j < trgs.size(); ++j)
+      for (std::size_t v = T.V.begin[trgs[j]], q = vb[j]; v < T.V.begin[trgs[j] + 1]; ++v, ++q) {
+        vsrc[q] = loc[T.V.item[v] - lb];
+        voff[q] = T.v_offset[v];
+      }
 #pragma omp parallel num_threads(threads_)
     {
       M2lFft::Work w(fft);
+      const double tf0 = detail::wall_now();
 #pragma omp for schedule(dynamic, 4)
       for (long j = 0; j < static_cast<long>(srcs.size()); ++j)
-        fft.forward(ue_.data() + srcs[j] * ldu, sspec.data() + j * sss, w);
-      for (int c = 0; c < fft.nchunk(); ++c) {
-#pragma omp for schedule(dynamic, 8)
-        for (long j = 0; j < static_cast<long>(trgs.size()); ++j) {
-          const int b = trgs[j];
-          double* acc = tspec.data() + j * tss + static_cast<std::size_t>(c) * TD * 2 * CH;
-          for (std::size_t v = T.V.begin[b]; v < T.V.begin[b + 1]; ++v) {
-            const int s = loc[T.V.item[v] - lb];
-            fft.hadamard(c, T.v_offset[v], sspec.data() + s * sss + static_cast<std::size_t>(c) * SD * 2 * CH, acc);
-          }
-        }
+        fft.forward(ue_.data() + srcs[j] * ldu, sspec.data(), j, srcs.size(), w);
+      const double tf1 = detail::wall_now();
+      // owner computes: a contiguous range of targets with equal V-list work per thread
+      const int nth = omp_get_num_threads(), me = omp_get_thread_num();
+      const std::size_t w0 = vb.back() * me / nth, w1 = vb.back() * (me + 1) / nth;
+      const std::size_t j0 = static_cast<std::size_t>(std::lower_bound(vb.begin(), vb.end() - 1, w0) - vb.begin());
+      const std::size_t j1 = me + 1 == nth ? trgs.size()
+          : static_cast<std::size_t>(std::lower_bound(vb.begin(), vb.end() - 1, w1) - vb.begin());
+      const std::size_t sblk = static_cast<std::size_t>(SD) * 2 * CH * srcs.size();
+      const std::size_t tblk = static_cast<std::size_t>(TD) * 2 * CH * trgs.size();
+      for (int c = 0; c < fft.nchunk(); ++c)
+        for (std::size_t j = j0; j < j1; ++j)
+          fft.template hadamard_list<TD, SD>(c, vsrc.data() + vb[j], voff.data() + vb[j], vb[j + 1] - vb[j],
+                                             sspec.data() + c * sblk, tspec.data() + c * tblk + j * TD * 2 * CH);
+      const double tf2 = detail::wall_now();
+      for (std::size_t j = j0; j < j1; ++j) fft.backward(tspec.data(), j, trgs.size(), rc_.data() + trgs[j] * ldc, w);
+      if (me == 0) {
+        t_.m2l_fft += (tf1 - tf0) + (detail::wall_now() - tf2);
+        t_.m2l_hadamard += tf2 - tf1;
       }
-#pragma omp for schedule(dynamic, 4)
-      for (long j = 0; j < static_cast<long>(trgs.size()); ++j)
-        fft.backward(tspec.data() + j * tss, rc_.data() + trgs[j] * ldc, w);
     }
   }
   t_.m2l += detail::wall_now() - t;

@@ -21,6 +21,7 @@
 #include <mutex>
 #include <vector>
 
+#include "capsflow/fmm/simd.hpp"
 #include "capsflow/fmm/surface.hpp"
 #include "capsflow/fmm/tree.hpp"
 
@@ -43,7 +44,7 @@ struct FftwBuffer {
 
 class M2lFft {
  public:
-  static constexpr int kChunk = 32;
+  static constexpr int kChunk = 8;  // frequencies per block: one AVX-512 vector
 
   explicit M2lFft(const Surface& s) : surf_(s) {}
   ~M2lFft() {
@@ -141,8 +142,9 @@ class M2lFft {
         : real(f.n3_ * (f.sd_ > f.td_ ? f.sd_ : f.td_)), cplx(f.nf_ * (f.sd_ > f.td_ ? f.sd_ : f.td_)) {}
   };
 
-  /// UE density (component-major, src_dim·n) -> split/chunked spectrum (src_spec_size doubles)
-  void forward(const double* ue, double* spec, Work& w) const {
+  /// UE density (component-major, src_dim·n) of box j (of count) -> split spectrum, stored
+  /// chunk-major: block (c, j, b) at spec + ((c*count + j)*SD + b)*2*kChunk.
+  void forward(const double* ue, double* spec, std::size_t j, std::size_t count, Work& w) const {
     const int n = surf_.n;
     for (std::size_t i = 0; i < n3_ * sd_; ++i) w.real.p[i] = 0.0;
     for (int b = 0; b < sd_; ++b)
@@ -150,7 +152,7 @@ class M2lFft {
     fftw_execute_dft_r2c(fwd_, w.real.p, w.cplx.p);
     for (int c = 0; c < nchunk_; ++c)
       for (int b = 0; b < sd_; ++b) {
-        double* blk = spec + (static_cast<std::size_t>(c) * sd_ + b) * 2 * kChunk;
+        double* blk = spec + ((static_cast<std::size_t>(c) * count + j) * sd_ + b) * 2 * kChunk;
         for (int q = 0; q < kChunk; ++q) {
           const std::size_t f = static_cast<std::size_t>(c) * kChunk + q;
           blk[q] = f < nf_ ? w.cplx.p[b * nf_ + f][0] : 0.0;
@@ -159,12 +161,13 @@ class M2lFft {
       }
   }
 
-  /// split/chunked target spectrum -> ADD the DC check potential (component-major, trg_dim·n)
-  void backward(const double* spec, double* check, Work& w) const {
+  /// chunk-major target spectrum of box j (of count) -> ADD its DC check potential
+  /// (component-major, trg_dim·n)
+  void backward(const double* spec, std::size_t j, std::size_t count, double* check, Work& w) const {
     const int n = surf_.n;
     for (int c = 0; c < nchunk_; ++c)
       for (int a = 0; a < td_; ++a) {
-        const double* blk = spec + (static_cast<std::size_t>(c) * td_ + a) * 2 * kChunk;
+        const double* blk = spec + ((static_cast<std::size_t>(c) * count + j) * td_ + a) * 2 * kChunk;
         for (int q = 0; q < kChunk; ++q) {
           const std::size_t f = static_cast<std::size_t>(c) * kChunk + q;
           if (f >= nf_) break;
@@ -177,23 +180,34 @@ class M2lFft {
       for (int k = 0; k < n; ++k) check[a * n + k] += w.real.p[a * n3_ + surf_.grid[k]];
   }
 
-  /// acc += K(offset) ⊙ src for one chunk (split complex, kChunk lanes)
-  void hadamard(int c, int o, const double* src_chunk, double* acc_chunk) const {
-    const double* k = kernel(c, o);
-    for (int a = 0; a < td_; ++a) {
-      double* ar = acc_chunk + a * 2 * kChunk;
-      double* ai = ar + kChunk;
-      for (int b = 0; b < sd_; ++b) {
-        const double* kr = k + (a * sd_ + b) * 2 * kChunk;
-        const double* ki = kr + kChunk;
-        const double* ur = src_chunk + b * 2 * kChunk;
-        const double* ui = ur + kChunk;
-#pragma omp simd
-        for (int q = 0; q < kChunk; ++q) {
-          ar[q] += kr[q] * ur[q] - ki[q] * ui[q];
-          ai[q] += kr[q] * ui[q] + ki[q] * ur[q];
-        }
+  /// For one frequency chunk c and one target box: acc += Σ_s K(offset_s) ⊙ src_s (split
+  /// complex, kChunk lanes). src_chunk = spectra of all source boxes for chunk c (box-major).
+  /// The accumulators stay in vector registers while the V list streams through; with
+  /// kChunk = 8 one chunk of all kernels, sources and targets of a level fits in L2.
+  template <int TD, int SD>
+  void hadamard_list(int c, const int* src_index, const int* offsets, std::size_t count,
+                     const double* src_chunk, double* acc) const {
+    using V = simd::VecD;
+    constexpr int CH = kChunk, W = V::width;
+    static_assert(CH % W == 0, "chunk must be a multiple of the vector width");
+    for (int q0 = 0; q0 < CH; q0 += W) {
+      V ar[TD], ai[TD];
+      for (int a = 0; a < TD; ++a) { ar[a] = V::load(acc + a * 2 * CH + q0); ai[a] = V::load(acc + a * 2 * CH + CH + q0); }
+      for (std::size_t s = 0; s < count; ++s) {
+        const double* k = kernel(c, offsets[s]) + q0;
+        const double* u = src_chunk + static_cast<std::size_t>(src_index[s]) * SD * 2 * CH + q0;
+        V ur[SD], ui[SD];
+        for (int b = 0; b < SD; ++b) { ur[b] = V::load(u + b * 2 * CH); ui[b] = V::load(u + b * 2 * CH + CH); }
+        for (int a = 0; a < TD; ++a)
+          for (int b = 0; b < SD; ++b) {
+            const V kr = V::load(k + (a * SD + b) * 2 * CH), ki = V::load(k + (a * SD + b) * 2 * CH + CH);
+            ar[a] = simd::fma(kr, ur[b], ar[a]);
+            ar[a] = simd::fnma(ki, ui[b], ar[a]);
+            ai[a] = simd::fma(kr, ui[b], ai[a]);
+            ai[a] = simd::fma(ki, ur[b], ai[a]);
+          }
       }
+      for (int a = 0; a < TD; ++a) { ar[a].store(acc + a * 2 * CH + q0); ai[a].store(acc + a * 2 * CH + CH + q0); }
     }
   }
 

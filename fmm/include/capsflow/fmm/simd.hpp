@@ -26,6 +26,7 @@ struct VecD {
   static VecD load_partial(const double* p, int n) {
     return _mm512_maskz_loadu_pd(static_cast<__mmask8>((1u << n) - 1u), p);
   }
+  void store(double* p) const { _mm512_storeu_pd(p, v); }
   void add_to(double* p) const { _mm512_storeu_pd(p, _mm512_add_pd(_mm512_loadu_pd(p), v)); }
   void add_to_partial(double* p, int n) const {
     const __mmask8 m = static_cast<__mmask8>((1u << n) - 1u);
@@ -36,6 +37,7 @@ inline VecD operator+(VecD a, VecD b) { return _mm512_add_pd(a.v, b.v); }
 inline VecD operator-(VecD a, VecD b) { return _mm512_sub_pd(a.v, b.v); }
 inline VecD operator*(VecD a, VecD b) { return _mm512_mul_pd(a.v, b.v); }
 inline VecD fma(VecD a, VecD b, VecD c) { return _mm512_fmadd_pd(a.v, b.v, c.v); }
+inline VecD fnma(VecD a, VecD b, VecD c) { return _mm512_fnmadd_pd(a.v, b.v, c.v); }
 // 14-bit hardware estimate refined by two Newton steps (14 -> 28 -> 56 bits); masked at r2 == 0.
 inline VecD rsqrt(VecD r2) {
   const __m512d half = _mm512_set1_pd(0.5), three_half = _mm512_set1_pd(1.5);
@@ -59,6 +61,7 @@ struct VecD {
     for (int i = 0; i < n; ++i) t[i] = p[i];
     return _mm256_load_pd(t);
   }
+  void store(double* p) const { _mm256_storeu_pd(p, v); }
   void add_to(double* p) const { _mm256_storeu_pd(p, _mm256_add_pd(_mm256_loadu_pd(p), v)); }
   void add_to_partial(double* p, int n) const {
     alignas(32) double t[4];
@@ -70,6 +73,7 @@ inline VecD operator+(VecD a, VecD b) { return _mm256_add_pd(a.v, b.v); }
 inline VecD operator-(VecD a, VecD b) { return _mm256_sub_pd(a.v, b.v); }
 inline VecD operator*(VecD a, VecD b) { return _mm256_mul_pd(a.v, b.v); }
 inline VecD fma(VecD a, VecD b, VecD c) { return _mm256_fmadd_pd(a.v, b.v, c.v); }
+inline VecD fnma(VecD a, VecD b, VecD c) { return _mm256_fnmadd_pd(a.v, b.v, c.v); }
 // Exact 1/sqrt (no float conversion, so any double range is safe); masked at r2 == 0.
 inline VecD rsqrt(VecD r2) {
   const __m256d zero = _mm256_setzero_pd();
@@ -84,6 +88,7 @@ struct VecD {
   explicit VecD(double x) : v(x) {}
   static VecD load(const double* p) { return VecD(*p); }
   static VecD load_partial(const double* p, int n) { return VecD(n > 0 ? *p : 0.0); }
+  void store(double* p) const { *p = v; }
   void add_to(double* p) const { *p += v; }
   void add_to_partial(double* p, int n) const { if (n > 0) *p += v; }
 };
@@ -91,6 +96,7 @@ inline VecD operator+(VecD a, VecD b) { return VecD(a.v + b.v); }
 inline VecD operator-(VecD a, VecD b) { return VecD(a.v - b.v); }
 inline VecD operator*(VecD a, VecD b) { return VecD(a.v * b.v); }
 inline VecD fma(VecD a, VecD b, VecD c) { return VecD(a.v * b.v + c.v); }
+inline VecD fnma(VecD a, VecD b, VecD c) { return VecD(c.v - a.v * b.v); }
 inline VecD rsqrt(VecD r2) { return VecD(r2.v > 0 ? 1.0 / std::sqrt(r2.v) : 0.0); }
 #endif
 

@@ -1,0 +1,160 @@
+// FMM against direct summation (the oracle, itself pinned by test_kernels.cpp): every distribution,
+// sources = targets and sources != targets, requested tolerances; degenerate inputs; homogeneity and
+// translation invariance; several densities per call; the Laplace kernel.
+// Pass criterion (FMM3D's): relative L2 error over all targets <= requested tolerance.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <tuple>
+
+#include "capsflow/fmm/direct_sum.hpp"
+#include "capsflow/fmm/fmm.hpp"
+#include "capsflow/fmm/laplace.hpp"
+#include "capsflow/fmm/stokeslet.hpp"
+#include "points.hpp"
+
+using namespace capsflow::fmm;
+using namespace capsflow::fmm::testing;
+
+namespace {
+// Operators are expensive to build: one per (kernel, order) for the whole test binary.
+template <class Kernel>
+std::shared_ptr<const Operators<Kernel>> ops_for(int p) {
+  static std::map<int, std::shared_ptr<const Operators<Kernel>>> cache;
+  auto& o = cache[p];
+  if (!o) o = std::make_shared<const Operators<Kernel>>(p, CAPSFLOW_FMM_TEST_CACHE);
+  return o;
+}
+
+template <class Kernel>
+double fmm_error(const std::vector<double>& s, const std::vector<double>& t, double tol, int leaf,
+                 std::vector<double>* out = nullptr) {
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  const std::size_t ns = s.size() / 3, nt = t.size() / 3;
+  const auto f = random_density(SD * ns, 99);
+  FmmOptions o;
+  o.tolerance = tol;
+  o.leaf_size = leaf;
+  Fmm<Kernel> fmm(o, ops_for<Kernel>(order_for_tolerance(tol)));
+  fmm.setup(s.data(), ns, t.data(), nt);
+  std::vector<double> u(TD * nt, 7.0), ref(TD * nt);
+  fmm.evaluate(f.data(), u.data());
+  direct_sum<Kernel>(s.data(), ns, f.data(), t.data(), nt, ref.data());
+  if (out) *out = u;
+  return rel_l2(u, ref);
+}
+}  // namespace
+
+class FmmVsDirect : public ::testing::TestWithParam<std::tuple<std::string, bool, double>> {};
+
+TEST_P(FmmVsDirect, RelativeL2BelowTolerance) {
+  const auto [dist, same, tol] = GetParam();
+  const std::size_t ns = 3000;
+  auto s = make_points(dist, ns, 1);
+  auto t = same ? s : make_points(dist, 1000, 2);
+  // leaf 48: several levels, so every operator (M2M, L2L, V, W, X) takes part
+  const double err = fmm_error<Stokeslet>(s, t, tol, 48);
+  EXPECT_LE(err, tol) << dist << (same ? " same" : " separate") << " p=" << order_for_tolerance(tol);
+}
+
+INSTANTIATE_TEST_SUITE_P(Matrix, FmmVsDirect,
+                         ::testing::Combine(::testing::Values("sphere", "spheroid", "cube", "clustered"),
+                                            ::testing::Bool(), ::testing::Values(1e-3, 1e-6)));
+
+TEST(FmmDegenerate, EmptyAndSinglePoints) {
+  FmmOptions o;
+  o.tolerance = 1e-3;
+  Fmm<Stokeslet> fmm(o, ops_for<Stokeslet>(order_for_tolerance(1e-3)));
+  std::vector<double> u(3, 5.0);
+  fmm.setup(nullptr, 0, nullptr, 0);
+  fmm.evaluate(nullptr, nullptr);  // nothing to do, must not crash
+  const double x[3] = {0.3, -0.2, 0.1}, f[3] = {1, 2, 3};
+  fmm.setup(nullptr, 0, x, 1);
+  fmm.evaluate(nullptr, u.data());
+  for (double v : u) EXPECT_EQ(v, 0.0);  // no sources: exactly zero, overwritten
+  fmm.setup(x, 1, x, 1);
+  fmm.evaluate(f, u.data());
+  for (double v : u) EXPECT_EQ(v, 0.0);  // the only pair is a self pair: skipped
+  const double y[3] = {1.3, 0.8, -0.4};
+  double ref[3];
+  fmm.setup(x, 1, y, 1);
+  fmm.evaluate(f, u.data());
+  direct_sum<Stokeslet>(x, 1, f, y, 1, ref);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(u[k], ref[k], 1e-15);  // one leaf: pure direct sum
+}
+
+TEST(FmmDegenerate, FewerPointsThanALeafAndAllInOneLeaf) {
+  auto s = make_points("cube", 50, 3);
+  EXPECT_LE(fmm_error<Stokeslet>(s, s, 1e-6, 0), 1e-13);     // 50 < default leaf: direct, rounding only
+  auto s2 = make_points("sphere", 2000, 4);
+  EXPECT_LE(fmm_error<Stokeslet>(s2, s2, 1e-6, 5000), 1e-13);  // one leaf holds everything
+}
+
+TEST(FmmDegenerate, CoincidentPoints) {
+  // 400 copies of one point plus 1600 others: the tree runs to its maximum depth there.
+  auto s = make_points("sphere", 2000, 5);
+  for (int i = 0; i < 400; ++i)
+    for (int d = 0; d < 3; ++d) s[3 * i + d] = s[d];
+  EXPECT_LE(fmm_error<Stokeslet>(s, s, 1e-6, 48), 1e-6);
+}
+
+TEST(FmmDegenerate, PointsOnAPlane) {
+  auto s = make_points("cube", 3000, 6);
+  for (std::size_t i = 0; i < 3000; ++i) s[3 * i + 2] = 0.25;
+  auto t = make_points("cube", 800, 7);
+  for (std::size_t i = 0; i < 800; ++i) t[3 * i + 2] = 0.25;
+  EXPECT_LE(fmm_error<Stokeslet>(s, t, 1e-6, 48), 1e-6);
+}
+
+TEST(FmmInvariance, ScalingByTenDividesVelocitiesByTen) {
+  auto s = make_points("spheroid", 3000, 8);
+  std::vector<double> u1, u10;
+  fmm_error<Stokeslet>(s, s, 1e-6, 48, &u1);
+  auto s10 = s;
+  for (double& v : s10) v *= 10;
+  fmm_error<Stokeslet>(s10, s10, 1e-6, 48, &u10);
+  for (double& v : u1) v /= 10;
+  // both are within 1e-6 of exact sums that differ by exactly the factor 10 (degree −1)
+  EXPECT_LE(rel_l2(u10, u1), 1e-6);
+}
+
+TEST(FmmInvariance, Translation) {
+  auto s = make_points("clustered", 3000, 9);
+  std::vector<double> u0, u1;
+  fmm_error<Stokeslet>(s, s, 1e-6, 48, &u0);
+  auto st = s;
+  for (std::size_t i = 0; i < 3000; ++i) { st[3 * i] += 100; st[3 * i + 1] -= 50; st[3 * i + 2] += 3; }
+  const double err = fmm_error<Stokeslet>(st, st, 1e-6, 48, &u1);
+  // 1e-6 is the requested tolerance; the shift by 100 costs ~1e-14·100 relative in coordinates
+  EXPECT_LE(err, 1e-6);
+  EXPECT_LE(rel_l2(u1, u0), 2e-6);  // each within 1e-6 of the same exact answer
+}
+
+TEST(FmmApi, SeveralDensitiesPerCallAndRepeatedEvaluation) {
+  auto s = make_points("sphere", 2500, 10), t = make_points("sphere", 700, 11);
+  FmmOptions o;
+  o.tolerance = 1e-6;
+  o.leaf_size = 48;
+  Fmm<Stokeslet> fmm(o, ops_for<Stokeslet>(order_for_tolerance(1e-6)));
+  fmm.setup(s.data(), 2500, t.data(), 700);
+  const auto f = random_density(2 * 3 * 2500, 12);
+  std::vector<double> both(2 * 3 * 700), one(3 * 700), two(3 * 700);
+  fmm.evaluate(f.data(), both.data(), 2);
+  fmm.evaluate(f.data(), one.data());
+  fmm.evaluate(f.data() + 3 * 2500, two.data());
+  std::vector<double> b1(both.begin(), both.begin() + 2100), b2(both.begin() + 2100, both.end());
+  // same operations in the same order per target: equal to rounding (1e-14 relative)
+  EXPECT_LE(rel_l2(b1, one), 1e-14);
+  EXPECT_LE(rel_l2(b2, two), 1e-14);
+  std::vector<double> ref(3 * 700);
+  direct_sum<Stokeslet>(s.data(), 2500, f.data() + 3 * 2500, t.data(), 700, ref.data());
+  EXPECT_LE(rel_l2(b2, ref), 1e-6);  // requested tolerance
+}
+
+TEST(FmmLaplace, SecondKernelThroughTheSameMachinery) {
+  for (const char* dist : {"sphere", "clustered"}) {
+    auto s = make_points(dist, 3000, 13), t = make_points(dist, 900, 14);
+    EXPECT_LE(fmm_error<Laplace>(s, t, 1e-6, 48), 1e-6) << dist;  // requested tolerance
+  }
+}
