@@ -99,8 +99,21 @@ void GsmbWall::rotate(const Eigen::VectorXd& w) {
 void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K) {
   const int n = topo_.n_nodes;
   if (x.rows() != n) throw std::invalid_argument("GsmbWall: x has the wrong number of rows");
-  fx_.setZero();
-  g_.setZero();
+  // pack the nodal data read by the elements (x, d, -t2, t1: 12 doubles) and the accumulators
+  // (fx, g: 6 doubles) node by node, so that an element touches 3 + 3 short records
+  nodes_.resize(n);
+  acc_.resize(n);
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (int i = 0; i < n; ++i) {
+    NodeRec& r = nodes_[i];
+    for (int c = 0; c < 3; ++c) {
+      r.v[c] = x(i, c);
+      r.v[3 + c] = d_(i, c);
+      r.v[6 + c] = -t2_(i, c);
+      r.v[9 + c] = t1_(i, c);
+    }
+    acc_[i].fill(0.0);
+  }
   double* Kv = K_.valuePtr();
   if (want_K) std::fill(Kv, Kv + K_.nonZeros(), 0.0);
   for (const auto& col : topo_.colors) {
@@ -110,20 +123,24 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
       const int e = col[k];
       const ElementRef& R = ref_[e];
       const auto& nd = R.m.n;
-      const Vec3 xe[3] = {x.row(nd[0]), x.row(nd[1]), x.row(nd[2])};
-      const Vec3 de[3] = {d_.row(nd[0]), d_.row(nd[1]), d_.row(nd[2])};
-      Vec3 T[3][2];
+      Vec3 xe[3], de[3], T[3][2];
       for (int a = 0; a < 3; ++a) {
-        T[a][0] = -t2_.row(nd[a]).transpose();
-        T[a][1] = t1_.row(nd[a]).transpose();
+        const double* v = nodes_[nd[a]].v;
+        xe[a] = Vec3(v[0], v[1], v[2]);
+        de[a] = Vec3(v[3], v[4], v[5]);
+        T[a][0] = Vec3(v[6], v[7], v[8]);
+        T[a][1] = Vec3(v[9], v[10], v[11]);
       }
       Vec3 fm[3];
       membrane_element(R.m, law_, xe, fm);
       BsOut o;
       bs_element(R, xe, de, T, o, want_K);
       for (int a = 0; a < 3; ++a) {
-        fx_.row(nd[a]) += (fm[a] + o.fx[a]).transpose();
-        g_.row(nd[a]) += o.g[a].transpose();
+        double* acc = acc_[nd[a]].data();
+        for (int c = 0; c < 3; ++c) {
+          acc[c] += fm[a][c] + o.fx[a][c];
+          acc[3 + c] += o.g[a][c];
+        }
       }
       if (want_K) {
         const auto& pp = topo_.pair_pos[e];
@@ -141,6 +158,12 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
       }
     }
   }
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      fx_(i, c) = acc_[i][c];
+      g_(i, c) = acc_[i][3 + c];
+    }
   // nodal residual and geometric term
 #pragma omp parallel for schedule(static) if (n > 4096)
   for (int i = 0; i < n; ++i) {

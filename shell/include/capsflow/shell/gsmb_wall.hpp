@@ -21,6 +21,7 @@
 // error in theta is amplified by h D in the load (numerics.md pitfall 5); with quadratic
 // convergence the extra cost is at most one Newton step.
 #include <Eigen/SparseCore>
+#include <array>
 #include <vector>
 
 #include "capsflow/shell/pcg.hpp"
@@ -90,6 +91,9 @@ class GsmbWall : public Wall {
   void nodal_normals(const Points& x, Points& n) const;
   Points D_, d_, t1_, t2_, n_prev_, n_cur_;
   Points fx_, g_;
+  struct NodeRec { double v[12]; };  // x, d, -t2, t1 of one node (element-pass input)
+  std::vector<NodeRec> nodes_;
+  std::vector<std::array<double, 6>> acc_;  // fx, g accumulators of one node
   SpMatR K_;
   std::vector<int> row_base_, row_len2_;  // K value index of node-row i: 4*adj_ptr[i], 2*deg(i)
   Eigen::VectorXd Rth_, dw_, kdiag_;
