@@ -60,6 +60,31 @@ std::array<Mat3, 3> singular_element_integral(const Vec3& x0, const Vec3& x1, co
   return out;
 }
 
+Vec3 singular_element_apply(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& q0, const Vec3& q1, const Vec3& q2,
+                            const GaussLegendre& rule) {
+  // Same quadrature as singular_element_integral, contracted with the load first.
+  const Vec3 a = x1 - x0, b = x2 - x1;
+  const double area = 0.5 * a.cross(x2 - x0).norm();
+  const double bb = b.squaredNorm(), blen = std::sqrt(bb);
+  const double vstar = std::clamp(-a.dot(b) / bb, 0.0, 1.0);
+  const double d = (a + vstar * b).norm();
+  Vec3 sum = Vec3::Zero();
+  for (const double sign : {1.0, -1.0}) {
+    const double length = sign > 0 ? 1.0 - vstar : vstar;
+    if (length <= 0) continue;
+    const double smax = std::asinh(blen * length / d);
+    for (size_t k = 0; k < rule.x.size(); ++k) {
+      const double ex = std::exp(rule.x[k] * smax), inv = 1.0 / ex;  // one exp for sinh and cosh
+      const double v = vstar + sign * (d / blen) * 0.5 * (ex - inv);
+      const Vec3 e = a + v * b;
+      const double len2 = e.squaredNorm();
+      const Vec3 q = q0 + (1 - v) * q1 + v * q2;  // ∫ φ_k du weights (1, 1 − v, v)
+      sum += (rule.w[k] * smax * (d / blen) * 0.5 * (ex + inv) / std::sqrt(len2)) * (q + e * (e.dot(q) / len2));
+    }
+  }
+  return area * sum;
+}
+
 namespace {
 // Dunavant's 7-point rule (degree 5): barycentrics and weights (sum 1).
 constexpr double kA1 = 0.059715871789770, kB1 = 0.470142064105115, kW1 = 0.132394152788506;
@@ -88,6 +113,17 @@ void refine(const Vec3& p, const Vec3 (&x)[3], const Eigen::Matrix3d& bary, doub
   for (const auto& sub : c) refine(p, x, sub, area / 4, depth - 1, out);
 }
 }  // namespace
+
+Vec3 near_element_apply(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& q0, const Vec3& q1,
+                        const Vec3& q2) {
+  const double area = 0.5 * (x1 - x0).cross(x2 - x0).norm();
+  Vec3 sum = Vec3::Zero();
+  for (const auto& r : kRule7) {
+    const Vec3 y = r[0] * x0 + r[1] * x1 + r[2] * x2;
+    sum += r[3] * stokeslet_apply(p - y, r[0] * q0 + r[1] * q1 + r[2] * q2);
+  }
+  return area * sum;
+}
 
 std::array<Mat3, 3> refined_element_integral(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, int depth) {
   const Vec3 x[3] = {x0, x1, x2};

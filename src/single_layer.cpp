@@ -121,8 +121,8 @@ void SingleLayer::correct_touching_elements(const Points& x, const Points& q, Po
       const int e = node_elem_[static_cast<size_t>(s)];
       const int k0 = tri_(e, 0) == i ? 0 : (tri_(e, 1) == i ? 1 : 2);
       const int j = tri_(e, (k0 + 1) % 3), k = tri_(e, (k0 + 2) % 3);
-      const auto S = singular_element_integral(xi, x.row(j).transpose(), x.row(k).transpose(), rule_);
-      corr += S[0] * q.row(i).transpose() + S[1] * q.row(j).transpose() + S[2] * q.row(k).transpose();
+      corr += singular_element_apply(xi, x.row(j).transpose(), x.row(k).transpose(), q.row(i).transpose(),
+                                     q.row(j).transpose(), q.row(k).transpose(), rule_);
       for (int g = 0; g < 3; ++g) {  // remove what the far-field sum added for this element
         const size_t o = static_cast<size_t>(9 * e + 3 * g);
         const Vec3 y(src_[o], src_[o + 1], src_[o + 2]), f(strength_[o], strength_[o + 1], strength_[o + 2]);
@@ -132,9 +132,14 @@ void SingleLayer::correct_touching_elements(const Points& x, const Points& q, Po
     for (int s = ring_start_[i]; s < ring_start_[i + 1]; ++s) {
       const int e = ring_[static_cast<size_t>(s)];
       const int a = tri_(e, 0), b = tri_(e, 1), c = tri_(e, 2);
-      const auto S = refined_element_integral(xi, x.row(a).transpose(), x.row(b).transpose(), x.row(c).transpose(),
-                                              opt_.near_ring_depth);
-      corr += S[0] * q.row(a).transpose() + S[1] * q.row(b).transpose() + S[2] * q.row(c).transpose();
+      if (opt_.near_ring_depth == 0)
+        corr += near_element_apply(xi, x.row(a).transpose(), x.row(b).transpose(), x.row(c).transpose(), q.row(a).transpose(),
+                                   q.row(b).transpose(), q.row(c).transpose());
+      else {
+        const auto S = refined_element_integral(xi, x.row(a).transpose(), x.row(b).transpose(), x.row(c).transpose(),
+                                                opt_.near_ring_depth);
+        corr += S[0] * q.row(a).transpose() + S[1] * q.row(b).transpose() + S[2] * q.row(c).transpose();
+      }
       for (int g = 0; g < 3; ++g) {
         const size_t o = static_cast<size_t>(9 * e + 3 * g);
         corr -= stokeslet_apply(xi - Vec3(src_[o], src_[o + 1], src_[o + 2]), Vec3(strength_[o], strength_[o + 1], strength_[o + 2]));

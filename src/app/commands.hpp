@@ -11,4 +11,16 @@ struct InfoOptions {
 };
 int info_command(const InfoOptions& opt);
 
+struct RunCommandOptions {
+  std::string scene_path;  // empty: built-in default scene
+  std::vector<std::string> overrides;
+  std::string output_dir = "capsflow-out";
+  bool output_dir_given = false;
+  bool overwrite = false;
+  std::string restart;
+  int threads = 0;
+  std::string command_line;
+};
+int run_command(const RunCommandOptions& opt);
+
 }  // namespace capsflow::app

@@ -1,4 +1,7 @@
 // capsflow command line (design.md §5): thin — parse, build, run.
+//   capsflow run [SCENE.toml] [--set key=value]... [-o DIR] [--overwrite] [--restart CKPT] [--threads N]
+//   capsflow info [SCENE.toml] [--set key=value]...
+//   capsflow --version
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -15,9 +18,18 @@ int main(int argc, char** argv) {
   cli.add_flag("--version", show_version, "print version, git hash and dependency versions");
 
   capsflow::app::InfoOptions info;
-  CLI::App* info_cmd = cli.add_subcommand("info", "print the resolved scene and a report of its mesh");
+  CLI::App* info_cmd = cli.add_subcommand("info", "print the resolved scene, mesh report, back end and stable time step");
   info_cmd->add_option("scene", info.scene_path, "scene file (TOML); default: the built-in default scene");
   info_cmd->add_option("--set", info.overrides, "override a scene key, e.g. --set mesh.level=5");
+
+  capsflow::app::RunCommandOptions run;
+  CLI::App* run_cmd = cli.add_subcommand("run", "run a scene (default: the built-in quick scene)");
+  run_cmd->add_option("scene", run.scene_path, "scene file (TOML); default: the built-in default scene");
+  run_cmd->add_option("--set", run.overrides, "override a scene key, e.g. --set time.t_end=1");
+  auto* out_opt = run_cmd->add_option("-o,--output", run.output_dir, "output folder (default: capsflow-out)");
+  run_cmd->add_flag("--overwrite", run.overwrite, "replace capsflow's files in an existing output folder");
+  run_cmd->add_option("--restart", run.restart, "continue from a checkpoint (DIR/checkpoint.h5)");
+  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all)")->check(CLI::NonNegativeNumber);
 
   CLI11_PARSE(cli, argc, argv);
   try {
@@ -27,8 +39,13 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*info_cmd) return capsflow::app::info_command(info);
-    // Until the coupled solver lands, the main job reports the default scene.
-    return capsflow::app::info_command({});
+    if (*run_cmd) {
+      run.output_dir_given = out_opt->count() > 0;
+      for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
+      return capsflow::app::run_command(run);
+    }
+    fmt::print("{}", cli.help());
+    return 0;
   } catch (const std::exception& e) {
     fmt::print(stderr, "capsflow: error: {}\n", e.what());
     return 1;

@@ -30,6 +30,13 @@ std::array<Mat3, 3> singular_element_integral(const Vec3& x0, const Vec3& x1, co
 // on each part.
 std::array<Mat3, 3> refined_element_integral(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, int depth);
 
+// Hot-path forms of the two integrals above, applied to a P1 load (q_k at the element's vertices,
+// in the same order as the x_k): Σ_k (∫_e G φ_k dS) q_k, with vector algebra only.
+Vec3 singular_element_apply(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& q0, const Vec3& q1, const Vec3& q2,
+                            const GaussLegendre& rule);
+Vec3 near_element_apply(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& q0, const Vec3& q1,
+                        const Vec3& q2);  // 7-point rule on the whole element (depth 0)
+
 // G(r) applied to f: (f + r (r·f)/|r|²)/|r|.
 inline Vec3 stokeslet_apply(const Vec3& r, const Vec3& f) {
   const double r2 = r.squaredNorm(), inv = 1.0 / std::sqrt(r2);

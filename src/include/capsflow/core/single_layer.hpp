@@ -33,7 +33,7 @@ struct SingleLayerOptions {
   std::string backend = "auto";  // auto | fmm | direct
   double tolerance = 1e-6;       // FMM relative accuracy (ignored by direct)
   int singular_points = 16;      // Gauss–Legendre points of the Duffy line integral
-  int near_ring_depth = 2;       // near ring (elements sharing a vertex with the touching ones):
+  int near_ring_depth = 0;       // near ring (elements sharing a vertex with the touching ones):
                                  // refined 7-point rule on 4^depth parts; -1 disables the ring
   int threads = 0;               // 0 = OpenMP default
 };
