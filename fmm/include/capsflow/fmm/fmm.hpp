@@ -75,6 +75,9 @@ class Fmm {
   void local_to_targets();
 
   FmmOptions opt_;
+  // near field with one Newton step (6e-9 per pair) for orders whose error is >= 1e-7 (p <= 8)
+  static constexpr int kFastRsqrtMaxOrder = 8;
+  bool fast_rsqrt_ = false;
   int leaf_size_ = 0, threads_ = 1;
   std::shared_ptr<const Operators<Kernel>> ops_;
   Tree tree_;
@@ -85,6 +88,7 @@ class Fmm {
   std::vector<double> u_;   // trg_dim arrays of n_trg
   std::vector<double> ue_, cu_, rc_, de_;  // per node surface vectors, column-major
   std::vector<char> x_direct_;             // per node: X list evaluated directly
+  std::vector<double> sspec_, tspec_;      // M2L spectra of one level (reused)
   FmmTimings t_;
 };
 

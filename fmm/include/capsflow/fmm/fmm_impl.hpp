@@ -30,8 +30,9 @@ inline void par_gemm(const Eigen::MatrixXd& A, const double* B, std::size_t ldb,
                      std::size_t ldc, std::size_t ncols, bool accumulate, int threads) {
   using CMap = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
   using MMap = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
-  // one contiguous block per thread (at least 64 columns): Eigen packs A once per call
-  const std::size_t nthr = std::max<std::size_t>(1, std::min<std::size_t>(threads, (ncols + 63) / 64));
+  // one contiguous block per thread: Eigen packs A once per call, and because the calls run inside
+  // a team of `threads` threads Eigen does not start its own (slow, spinning) parallel GEMM
+  const std::size_t nthr = std::max<std::size_t>(1, std::min<std::size_t>(threads, ncols));
   const std::size_t kBlock = (ncols + nthr - 1) / nthr;
   const long nb = static_cast<long>(nthr);
   if (ncols == 0) return;
@@ -54,6 +55,7 @@ Fmm<Kernel>::Fmm(const FmmOptions& opt) : opt_(opt) {
   ops_ = std::make_shared<const Operators<Kernel>>(p, opt.cache_dir);
   leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size(p);
   threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  fast_rsqrt_ = p <= kFastRsqrtMaxOrder;
 }
 
 template <class Kernel>
@@ -62,6 +64,7 @@ Fmm<Kernel>::Fmm(const FmmOptions& opt, std::shared_ptr<const Operators<Kernel>>
   if (!ops_) throw std::invalid_argument("capsflow::fmm::Fmm: null operators");
   leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size(ops_->order());
   threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  fast_rsqrt_ = ops_->order() <= kFastRsqrtMaxOrder;
 }
 
 template <class Kernel>
@@ -211,7 +214,10 @@ void Fmm<Kernel>::downward_checks() {
       if (T.V.size(static_cast<int>(b)) > 0) trgs.push_back(static_cast<int>(b));
     }
     if (trgs.empty()) continue;
-    std::vector<double> sspec(sss * srcs.size()), tspec(tss * trgs.size(), 0.0);
+    if (sspec_.size() < sss * srcs.size()) sspec_.resize(sss * srcs.size());
+    if (tspec_.size() < tss * trgs.size()) tspec_.resize(tss * trgs.size());
+    double* const sspec = sspec_.data();
+    double* const tspec = tspec_.data();
     // per target: source local indices and offsets, and a work prefix for balancing
     std::vector<std::size_t> vb(trgs.size() + 1, 0);
     for (std::size_t j = 0; j < trgs.size(); ++j) vb[j + 1] = vb[j] + T.V.size(trgs[j]);
@@ -227,7 +233,7 @@ void Fmm<Kernel>::downward_checks() {
       const double tf0 = detail::wall_now();
 #pragma omp for schedule(dynamic, 4)
       for (long j = 0; j < static_cast<long>(srcs.size()); ++j)
-        fft.forward(ue_.data() + srcs[j] * ldu, sspec.data(), j, srcs.size(), w);
+        fft.forward(ue_.data() + srcs[j] * ldu, sspec, j, srcs.size(), w);
       const double tf1 = detail::wall_now();
       // owner computes: a contiguous range of targets with equal V-list work per thread
       const int nth = omp_get_num_threads(), me = omp_get_thread_num();
@@ -238,11 +244,29 @@ void Fmm<Kernel>::downward_checks() {
       const std::size_t sblk = static_cast<std::size_t>(SD) * 2 * CH * srcs.size();
       const std::size_t tblk = static_cast<std::size_t>(TD) * 2 * CH * trgs.size();
       for (int c = 0; c < fft.nchunk(); ++c)
+        std::fill(tspec + c * tblk + j0 * TD * 2 * CH, tspec + c * tblk + j1 * TD * 2 * CH, 0.0);
+      // this thread's (target, source) pairs grouped by V offset: each kernel block is loaded once
+      // per chunk and offset, the pairs stream through it
+      std::vector<std::size_t> ob(kNumVOffsets + 1, 0);
+      for (std::size_t q = vb[j0]; q < vb[j1]; ++q) ++ob[voff[q] + 1];
+      for (int o = 0; o < kNumVOffsets; ++o) ob[o + 1] += ob[o];
+      std::vector<int> pairs(2 * (vb[j1] - vb[j0]));
+      {
+        std::vector<std::size_t> fill(ob.begin(), ob.end() - 1);
         for (std::size_t j = j0; j < j1; ++j)
-          fft.template hadamard_list<TD, SD>(c, vsrc.data() + vb[j], voff.data() + vb[j], vb[j + 1] - vb[j],
-                                             sspec.data() + c * sblk, tspec.data() + c * tblk + j * TD * 2 * CH);
+          for (std::size_t q = vb[j]; q < vb[j + 1]; ++q) {
+            const std::size_t at = fill[voff[q]]++;
+            pairs[2 * at] = static_cast<int>(j);
+            pairs[2 * at + 1] = vsrc[q];
+          }
+      }
+      for (int c = 0; c < fft.nchunk(); ++c)
+        for (int o = 0; o < kNumVOffsets; ++o)
+          if (ob[o + 1] > ob[o])
+            fft.template hadamard_pairs<TD, SD>(c, o, pairs.data() + 2 * ob[o], ob[o + 1] - ob[o],
+                                                sspec + c * sblk, tspec + c * tblk);
       const double tf2 = detail::wall_now();
-      for (std::size_t j = j0; j < j1; ++j) fft.backward(tspec.data(), j, trgs.size(), rc_.data() + trgs[j] * ldc, w);
+      for (std::size_t j = j0; j < j1; ++j) fft.backward(tspec, j, trgs.size(), rc_.data() + trgs[j] * ldc, w);
       if (me == 0) {
         t_.m2l_fft += (tf1 - tf0) + (detail::wall_now() - tf2);
         t_.m2l_hadamard += tf2 - tf1;
@@ -334,8 +358,12 @@ void Fmm<Kernel>::near_field() {
       auto direct_from = [&](const Node& A) {
         const double* f[SD];
         for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
-        p2p<Kernel>(tx, ty, tz, B.ntrg(), T.sx.data() + A.sb, T.sy.data() + A.sb, T.sz.data() + A.sb,
-                    f, A.nsrc(), u, Kernel::scale());
+        if (fast_rsqrt_)
+          p2p<Kernel, 1>(tx, ty, tz, B.ntrg(), T.sx.data() + A.sb, T.sy.data() + A.sb, T.sz.data() + A.sb,
+                         f, A.nsrc(), u, Kernel::scale());
+        else
+          p2p<Kernel, 2>(tx, ty, tz, B.ntrg(), T.sx.data() + A.sb, T.sy.data() + A.sb, T.sz.data() + A.sb,
+                         f, A.nsrc(), u, Kernel::scale());
       };
       for (std::size_t j = T.U.begin[b]; j < T.U.begin[b + 1]; ++j) direct_from(T.nodes[T.U.item[j]]);
       for (std::size_t j = T.W.begin[b]; j < T.W.begin[b + 1]; ++j) {

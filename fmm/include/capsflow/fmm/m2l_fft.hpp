@@ -85,9 +85,9 @@ class M2lFft {
       std::lock_guard<std::mutex> lk(fftw_planner_mutex());
       const int dims[3] = {m_, m_, m_};
       fwd_ = fftw_plan_many_dft_r2c(3, dims, sd_, rin.p, nullptr, 1, static_cast<int>(n3_), cout.p,
-                                    nullptr, 1, static_cast<int>(nf_), FFTW_ESTIMATE);
+                                    nullptr, 1, static_cast<int>(nf_), FFTW_MEASURE);
       bwd_ = fftw_plan_many_dft_c2r(3, dims, td_, cout.p, nullptr, 1, static_cast<int>(nf_), rin.p,
-                                    nullptr, 1, static_cast<int>(n3_), FFTW_ESTIMATE);
+                                    nullptr, 1, static_cast<int>(n3_), FFTW_MEASURE);
       single = fftw_plan_dft_r2c_3d(m_, m_, m_, rin.p, cout.p, FFTW_ESTIMATE);
     }
     kspec_.assign(static_cast<std::size_t>(nchunk_) * kNumVOffsets * td_ * sd_ * 2 * kChunk, 0.0);
@@ -208,6 +208,42 @@ class M2lFft {
           }
       }
       for (int a = 0; a < TD; ++a) { ar[a].store(acc + a * 2 * CH + q0); ai[a].store(acc + a * 2 * CH + CH + q0); }
+    }
+  }
+
+  /// For one frequency chunk c and one V offset o: for every (target t, source s) in `pairs`,
+  ///   acc_t += K(o) ⊙ src_s   (split complex; src_chunk / trg_chunk = box-major spectra of
+  ///                            chunk c; pairs = t0,s0,t1,s1,...).
+  /// The kernel block of (c, o) stays in vector registers while the pairs stream through.
+  template <int TD, int SD>
+  void hadamard_pairs(int c, int o, const int* pairs, std::size_t count, const double* src_chunk,
+                      double* trg_chunk) const {
+    using V = simd::VecD;
+    constexpr int CH = kChunk, W = V::width;
+    const double* k = kernel(c, o);
+    for (int q0 = 0; q0 < CH; q0 += W) {
+      V kr[TD * SD], ki[TD * SD];
+      for (int ab = 0; ab < TD * SD; ++ab) {
+        kr[ab] = V::load(k + ab * 2 * CH + q0);
+        ki[ab] = V::load(k + ab * 2 * CH + CH + q0);
+      }
+      for (std::size_t p = 0; p < count; ++p) {
+        const double* u = src_chunk + static_cast<std::size_t>(pairs[2 * p + 1]) * SD * 2 * CH + q0;
+        double* acc = trg_chunk + static_cast<std::size_t>(pairs[2 * p]) * TD * 2 * CH + q0;
+        V ur[SD], ui[SD];
+        for (int b = 0; b < SD; ++b) { ur[b] = V::load(u + b * 2 * CH); ui[b] = V::load(u + b * 2 * CH + CH); }
+        for (int a = 0; a < TD; ++a) {
+          V ar = V::load(acc + a * 2 * CH), ai = V::load(acc + a * 2 * CH + CH);
+          for (int b = 0; b < SD; ++b) {
+            ar = simd::fma(kr[a * SD + b], ur[b], ar);
+            ar = simd::fnma(ki[a * SD + b], ui[b], ar);
+            ai = simd::fma(kr[a * SD + b], ui[b], ai);
+            ai = simd::fma(ki[a * SD + b], ur[b], ai);
+          }
+          ar.store(acc + a * 2 * CH);
+          ai.store(acc + a * 2 * CH + CH);
+        }
+      }
     }
   }
 
