@@ -22,7 +22,6 @@ class BlockPcg {
 
  private:
   void setup_preconditioner(const SpMatR& A);
-  void apply_preconditioner(const double* r, double* z) const;
   int bs_;
   std::vector<double> r_, z_, p_, q_, pinv_, partial_;
 };
