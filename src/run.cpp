@@ -167,7 +167,11 @@ void Simulation::write_output() {
   out_->write_step(st_.t, st_.x, fields);
   {  // profiles in the three coordinate planes through the volume centroid
     io::h5::File f = io::h5::File::open(folder_ / io::kRunH5, io::h5::File::Mode::read_write, true);
-    io::h5::Group g = f.require_group(fmt::format("steps/{:06}/profiles", out_->num_steps() - 1));
+    // Kept beside /steps (whose groups hold nodal fields only): /profiles/<k>/<plane>/{points, offsets}.
+    const std::string name = fmt::format("profiles/{:06}", out_->num_steps() - 1);
+    if (f.exists(name)) f.remove(name);  // left over from a run continued by --restart
+    io::h5::Group g = f.require_group(name);
+    g.set_attribute("time", st_.t);
     const Vec3 c = volume_moments(cur).centroid;
     for (CoordinatePlane p : {CoordinatePlane::X1X2, CoordinatePlane::X1X3, CoordinatePlane::X2X3}) {
       const auto lines = cross_section(cur, p, c);

@@ -176,6 +176,8 @@ std::string apply_override(toml::table& root, const std::string& assignment) {
   toml::table* t = root.get(sec)->as_table();
   if (!t) throw SceneError("--set " + assignment + ": [" + sec + "] is not a table");
   t->insert_or_assign(leaf, *tmp.get("v"));
+  // ca_s and ca_v are alternatives: setting one on the command line replaces the other.
+  if (sec == "flow" && (leaf == "ca_s" || leaf == "ca_v")) t->erase(leaf == "ca_s" ? "ca_v" : "ca_s");
   return key;
 }
 
