@@ -55,7 +55,7 @@ Fmm<Kernel>::Fmm(const FmmOptions& opt) : opt_(opt) {
   ops_ = std::make_shared<const Operators<Kernel>>(p, opt.cache_dir);
   leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size(p);
   threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-  fast_rsqrt_ = p <= kFastRsqrtMaxOrder;
+  fast_rsqrt_ = !opt.exact_near_field && p <= kFastRsqrtMaxOrder;
 }
 
 template <class Kernel>
@@ -64,7 +64,7 @@ Fmm<Kernel>::Fmm(const FmmOptions& opt, std::shared_ptr<const Operators<Kernel>>
   if (!ops_) throw std::invalid_argument("capsflow::fmm::Fmm: null operators");
   leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size(ops_->order());
   threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-  fast_rsqrt_ = ops_->order() <= kFastRsqrtMaxOrder;
+  fast_rsqrt_ = !opt.exact_near_field && ops_->order() <= kFastRsqrtMaxOrder;
 }
 
 template <class Kernel>
