@@ -11,6 +11,14 @@
 
 namespace capsflow::shell {
 
+namespace {
+// CAPSFLOW_SHELL_TRACE=1 prints the Newton residuals to stderr (read once).
+bool trace_enabled() {
+  static const bool on = std::getenv("CAPSFLOW_SHELL_TRACE") != nullptr;
+  return on;
+}
+}  // namespace
+
 GsmbWall::GsmbWall(const Points& X, const Triangles& tri, MembraneLaw law, GsmbOptions opt)
     : law_(law), opt_(opt), topo_(tri, X.rows()) {
   init(X, area_weighted_normals(X, tri));
@@ -232,7 +240,7 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     double res = 0;
     for (int i = 0; i < n2; ++i) res = std::max(res, std::abs(Rth_[i]) / kdiag_[i]);
     st.residual = res;
-    if (std::getenv("CAPSFLOW_SHELL_TRACE")) std::fprintf(stderr, "newton %d residual %.3e\n", it, res);
+    if (trace_enabled()) std::fprintf(stderr, "newton %d residual %.3e\n", it, res);
     if (res <= opt_.newton_tol) break;
     if (it >= opt_.max_newton) {
       st.converged = false;

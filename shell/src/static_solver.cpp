@@ -16,6 +16,14 @@
 
 namespace capsflow::shell {
 
+namespace {
+// CAPSFLOW_SHELL_TRACE=1 prints the Newton residuals to stderr (read once).
+bool trace_enabled() {
+  static const bool on = std::getenv("CAPSFLOW_SHELL_TRACE") != nullptr;
+  return on;
+}
+}  // namespace
+
 struct StaticShell::Impl {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
 };
@@ -166,7 +174,7 @@ StaticStep StaticShell::newton(double lambda, const StaticOptions& opt) {
     assemble(lambda, true);
     const double fn = std::max(fext_.norm(), 1e-300);
     st.residual = r_.norm() / fn;
-    if (std::getenv("CAPSFLOW_SHELL_TRACE")) std::fprintf(stderr, "static newton %d residual %.3e\n", it, st.residual);
+    if (trace_enabled()) std::fprintf(stderr, "static newton %d residual %.3e\n", it, st.residual);
     if (it > 0 && (st.residual <= opt.tol ||
                    (st.residual <= opt.floor_tol && st.residual > 0.5 * prev))) {
       st.converged = true;  // below tol, or stagnating at the round-off floor below floor_tol
@@ -211,7 +219,7 @@ StaticStep StaticShell::newton(double lambda, const StaticOptions& opt) {
     } else {
       apply_increment(du, alpha);
     }
-    if (std::getenv("CAPSFLOW_SHELL_TRACE"))
+    if (trace_enabled())
       std::fprintf(stderr, "   step: max rot %.3e slope %.3e alpha %.3e\n", big, slope, alpha);
     ++st.newton;
   }
