@@ -14,7 +14,7 @@ shift
 
 packages=(cmake ninja-build g++ pkg-config ccache git
           libeigen3-dev libfftw3-dev libhdf5-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
-          libspdlog-dev libfmt-dev libgtest-dev python3-matplotlib python3-numpy)
+          libspdlog-dev libfmt-dev libgtest-dev python3-matplotlib python3-numpy python3-h5py)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
