@@ -10,10 +10,13 @@
 // and calls forces() + LoadRecovery::solve(): the warm start is the previous stage's solution.
 //
 // usage: shell_bench [max_level=6] [reps=20]      (OMP_NUM_THREADS sets the threads)
+// median_cpu_ms_total is the process CPU time per stage (all threads): with 1 thread it is what
+// the wall time would be on an idle machine, a useful figure when the machine is shared.
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
@@ -28,6 +31,14 @@ using clk = std::chrono::steady_clock;
 static double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
+}
+static double loadavg() {  // 1-minute load average of the machine (context for the timings)
+  double l = -1;
+  if (std::FILE* f = std::fopen("/proc/loadavg", "r")) {
+    if (std::fscanf(f, "%lf", &l) != 1) l = -1;
+    std::fclose(f);
+  }
+  return l;
 }
 static double ms(clk::time_point a, clk::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
@@ -61,16 +72,18 @@ int main(int argc, char** argv) {
     const double cold_ms = ms(c0, clk::now());
     const int cold_newton = st.newton_iterations, cold_cg = st.cg_iterations;
     lr.solve(x, R, q);
-    std::vector<double> tf, tl, tt;
+    std::vector<double> tf, tl, tt, tcpu;
     int newton = 0, cg = 0, lcg = 0, newton_max = 0;
     double res_max = 0;
     for (int r = 0; r < reps; ++r) {
       for (Eigen::Index i = 0; i < n; ++i) x(i, 0) += dt * x(i, 1);
+      const std::clock_t c0s = std::clock();
       const auto t0 = clk::now();
       wall.forces(x, R, &st);
       const auto t1 = clk::now();
       const int it = lr.solve(x, R, q);
       const auto t2 = clk::now();
+      tcpu.push_back(1000.0 * double(std::clock() - c0s) / CLOCKS_PER_SEC);
       tf.push_back(ms(t0, t1));
       tl.push_back(ms(t1, t2));
       tt.push_back(ms(t0, t2));
@@ -85,10 +98,11 @@ int main(int argc, char** argv) {
         "\"threads\":%d,\"reps\":%d,\"median_ms_total\":%.3f,\"median_ms_rotation_solve\":%.3f,"
         "\"median_ms_load_recovery\":%.3f,\"min_ms_total\":%.3f,\"newton_per_stage\":%.2f,"
         "\"newton_max\":%d,\"cg_per_stage\":%.1f,\"load_cg_per_stage\":%.1f,\"max_residual\":%.2e,"
-        "\"cold_ms\":%.1f,\"cold_newton\":%d,\"cold_cg\":%d}\n",
+        "\"cold_ms\":%.1f,\"cold_newton\":%d,\"cold_cg\":%d,\"median_cpu_ms_total\":%.3f,\"load\":%.2f}\n",
         static_cast<long>(m.T.rows()), static_cast<long>(n), omp_get_max_threads(), reps, median(tt),
         median(tf), median(tl), *std::min_element(tt.begin(), tt.end()), double(newton) / reps,
-        newton_max, double(cg) / reps, double(lcg) / reps, res_max, cold_ms, cold_newton, cold_cg);
+        newton_max, double(cg) / reps, double(lcg) / reps, res_max, cold_ms, cold_newton, cold_cg,
+        median(tcpu), loadavg());
     std::fflush(stdout);
     // membrane-only wall: explicit load
     MembraneWall mw(X, m.T, law);
