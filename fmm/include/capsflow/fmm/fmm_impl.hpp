@@ -25,25 +25,28 @@ inline double wall_now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-/// C(:, 0:ncols) (+)= A * B(:, 0:ncols), column-major with leading dimensions, parallel over columns.
+/// C(:, 0:ncols) (+)= A * B(:, 0:ncols), column-major with leading dimensions. Parallel over
+/// row blocks of A: each thread packs only its own slice of the (large) operator A, and because
+/// the calls run inside a team of threads Eigen does not start its own parallel GEMM.
 inline void par_gemm(const Eigen::MatrixXd& A, const double* B, std::size_t ldb, double* C,
                      std::size_t ldc, std::size_t ncols, bool accumulate, int threads) {
   using CMap = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
   using MMap = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
-  // one contiguous block per thread: Eigen packs A once per call, and because the calls run inside
-  // a team of `threads` threads Eigen does not start its own (slow, spinning) parallel GEMM
-  const std::size_t nthr = std::max<std::size_t>(1, std::min<std::size_t>(threads, ncols));
-  const std::size_t kBlock = (ncols + nthr - 1) / nthr;
-  const long nb = static_cast<long>(nthr);
   if (ncols == 0) return;
-#pragma omp parallel for num_threads(static_cast<int>(nthr)) schedule(static, 1)
-  for (long b = 0; b < nb; ++b) {
-    const std::size_t c0 = static_cast<std::size_t>(b) * kBlock;
-    if (c0 >= ncols) continue;
-    const long m = static_cast<long>(std::min(kBlock, ncols - c0));
-    CMap Bm(B + c0 * ldb, A.cols(), m, Eigen::OuterStride<>(static_cast<long>(ldb)));
-    MMap Cm(C + c0 * ldc, A.rows(), m, Eigen::OuterStride<>(static_cast<long>(ldc)));
-    if (accumulate) Cm.noalias() += A * Bm; else Cm.noalias() = A * Bm;
+  const long m = A.rows();
+  const int nthr = std::max(1, threads);
+  CMap Bm(B, A.cols(), static_cast<long>(ncols), Eigen::OuterStride<>(static_cast<long>(ldb)));
+#pragma omp parallel num_threads(nthr)
+  {
+    const int me = omp_get_thread_num(), nt = omp_get_num_threads();
+    // row blocks rounded to 8 (one AVX-512 vector)
+    const long r0 = std::min(m, (m * me / nt) / 8 * 8);
+    const long r1 = me + 1 == nt ? m : std::min(m, (m * (me + 1) / nt) / 8 * 8);
+    if (r1 > r0) {
+      MMap Cm(C + r0, r1 - r0, static_cast<long>(ncols), Eigen::OuterStride<>(static_cast<long>(ldc)));
+      if (accumulate) Cm.noalias() += A.middleRows(r0, r1 - r0) * Bm;
+      else Cm.noalias() = A.middleRows(r0, r1 - r0) * Bm;
+    }
   }
 }
 
@@ -231,9 +234,14 @@ void Fmm<Kernel>::downward_checks() {
     {
       M2lFft::Work w(fft);
       const double tf0 = detail::wall_now();
-#pragma omp for schedule(dynamic, 4)
-      for (long j = 0; j < static_cast<long>(srcs.size()); ++j)
-        fft.forward(ue_.data() + srcs[j] * ldu, sspec, j, srcs.size(), w);
+      constexpr int G = M2lFft::kBatch;
+#pragma omp for schedule(dynamic, 1)
+      for (long j0 = 0; j0 < static_cast<long>(srcs.size()); j0 += G) {
+        const int g = static_cast<int>(std::min<std::size_t>(G, srcs.size() - j0));
+        const double* ue[G];
+        for (int i = 0; i < g; ++i) ue[i] = ue_.data() + srcs[j0 + i] * ldu;
+        fft.forward(ue, g, sspec, j0, srcs.size(), w);
+      }
       const double tf1 = detail::wall_now();
       // owner computes: a contiguous range of targets with equal V-list work per thread
       const int nth = omp_get_num_threads(), me = omp_get_thread_num();
@@ -266,7 +274,12 @@ void Fmm<Kernel>::downward_checks() {
             fft.template hadamard_pairs<TD, SD>(c, o, pairs.data() + 2 * ob[o], ob[o + 1] - ob[o],
                                                 sspec + c * sblk, tspec + c * tblk);
       const double tf2 = detail::wall_now();
-      for (std::size_t j = j0; j < j1; ++j) fft.backward(tspec, j, trgs.size(), rc_.data() + trgs[j] * ldc, w);
+      for (std::size_t j = j0; j < j1; j += G) {
+        const int g = static_cast<int>(std::min<std::size_t>(G, j1 - j));
+        double* chk[G];
+        for (int i = 0; i < g; ++i) chk[i] = rc_.data() + trgs[j + i] * ldc;
+        fft.backward(tspec, j, g, trgs.size(), chk, w);
+      }
       if (me == 0) {
         t_.m2l_fft += (tf1 - tf0) + (detail::wall_now() - tf2);
         t_.m2l_hadamard += tf2 - tf1;

@@ -4,7 +4,8 @@
 // The UE surface of a source box and the DC surface of a V-list target box (both at 1.05·r) lie
 // on lattices with the same spacing h = 2·1.05·r/(p−1), so for centres c_T − c_S = D
 //   check_j = Σ_i K(D + h(j − i)) m_i,
-// a discrete convolution on a (2p)^3 grid (circular, no aliasing since |j − i| ≤ p − 1).
+// a discrete convolution on an m^3 grid, m = grid_size(p) >= 2p (circular, no aliasing since
+// |j − i| ≤ p − 1 < m/2).
 // Precomputed once per order: the r2c spectra of K sampled at D + h·n for the 316 V-list offsets
 // (reference box, half-width 1; the 1/(2p)^3 of the inverse FFT is folded in). Because the
 // kernel is homogeneous, the same spectra serve every level when M2L writes reference-scaled
@@ -16,6 +17,7 @@
 // thread-safe) and executed from threads with the new-array interface on fftw_malloc'ed buffers.
 #include <fftw3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <mutex>
@@ -56,6 +58,13 @@ class M2lFft {
   M2lFft& operator=(const M2lFft&) = delete;
 
   int grid() const { return m_; }
+  /// FFT grid edge: any m >= 2p − 1 avoids aliasing; 2p except where FFTW is slow (measured:
+  /// 18 is 2.5x slower than 20 on this machine), then the next even size.
+  static int grid_size(int p) {
+    int m = 2 * p;
+    if (m == 18 || m == 22 || m == 26 || m == 34 || m == 38) m += 2;
+    return m;
+  }
   std::size_t nreal() const { return n3_; }
   std::size_t nfreq() const { return nf_; }
   int nchunk() const { return nchunk_; }
@@ -73,7 +82,10 @@ class M2lFft {
     sd_ = Kernel::src_dim;
     td_ = Kernel::trg_dim;
     const int p = surf_.p;
-    m_ = 2 * p;
+    m_ = grid_size(p);
+    gidx_.resize(surf_.n);
+    for (int k = 0; k < surf_.n; ++k)
+      gidx_[k] = (surf_.lattice[3 * k] * m_ + surf_.lattice[3 * k + 1]) * m_ + surf_.lattice[3 * k + 2];
     n3_ = static_cast<std::size_t>(m_) * m_ * m_;
     const int mh = m_ / 2 + 1;
     nf_ = static_cast<std::size_t>(m_) * m_ * mh;
@@ -134,50 +146,65 @@ class M2lFft {
     fftw_destroy_plan(single);
   }
 
+  static constexpr int kBatch = 8;  // boxes transformed together (contiguous chunk-major writes)
+
   /// Per-thread scratch for forward/backward transforms.
   struct Work {
     FftwBuffer<double> real;
     FftwBuffer<fftw_complex> cplx;
     explicit Work(const M2lFft& f)
-        : real(f.n3_ * (f.sd_ > f.td_ ? f.sd_ : f.td_)), cplx(f.nf_ * (f.sd_ > f.td_ ? f.sd_ : f.td_)) {}
+        : real(f.n3_ * (f.sd_ > f.td_ ? f.sd_ : f.td_)),
+          cplx(f.nf_ * (f.sd_ > f.td_ ? f.sd_ : f.td_) * kBatch) {
+      for (std::size_t i = 0; i < f.n3_ * (f.sd_ > f.td_ ? f.sd_ : f.td_); ++i) real.p[i] = 0.0;
+    }
   };
 
-  /// UE density (component-major, src_dim·n) of box j (of count) -> split spectrum, stored
-  /// chunk-major: block (c, j, b) at spec + ((c*count + j)*SD + b)*2*kChunk.
-  void forward(const double* ue, double* spec, std::size_t j, std::size_t count, Work& w) const {
+  /// UE densities (component-major, src_dim·n each) of boxes j0 .. j0+g−1 (g <= kBatch, of
+  /// count) -> split spectra, stored chunk-major: block (c, j, b) at
+  /// spec + ((c*count + j)*SD + b)*2*kChunk, so the g boxes of one chunk are contiguous.
+  void forward(const double* const* ue, int g, double* spec, std::size_t j0, std::size_t count,
+               Work& w) const {
+    // Only the surface positions of the real grid are ever written; the rest stays zero from
+    // Work's construction (r2c out of place preserves its input).
     const int n = surf_.n;
-    for (std::size_t i = 0; i < n3_ * sd_; ++i) w.real.p[i] = 0.0;
-    for (int b = 0; b < sd_; ++b)
-      for (int k = 0; k < n; ++k) w.real.p[b * n3_ + surf_.grid[k]] = ue[b * n + k];
-    fftw_execute_dft_r2c(fwd_, w.real.p, w.cplx.p);
-    for (int c = 0; c < nchunk_; ++c)
-      for (int b = 0; b < sd_; ++b) {
-        double* blk = spec + ((static_cast<std::size_t>(c) * count + j) * sd_ + b) * 2 * kChunk;
-        for (int q = 0; q < kChunk; ++q) {
-          const std::size_t f = static_cast<std::size_t>(c) * kChunk + q;
-          blk[q] = f < nf_ ? w.cplx.p[b * nf_ + f][0] : 0.0;
-          blk[kChunk + q] = f < nf_ ? w.cplx.p[b * nf_ + f][1] : 0.0;
+    for (int i = 0; i < g; ++i) {
+      for (int b = 0; b < sd_; ++b)
+        for (int k = 0; k < n; ++k) w.real.p[b * n3_ + gidx_[k]] = ue[i][b * n + k];
+      fftw_execute_dft_r2c(fwd_, w.real.p, w.cplx.p + static_cast<std::size_t>(i) * sd_ * nf_);
+    }
+    for (int c = 0; c < nchunk_; ++c) {
+      double* blk = spec + (static_cast<std::size_t>(c) * count + j0) * sd_ * 2 * kChunk;
+      const std::size_t f0 = static_cast<std::size_t>(c) * kChunk;
+      const int nq = static_cast<int>(std::min<std::size_t>(kChunk, nf_ - f0));
+      for (int i = 0; i < g; ++i)
+        for (int b = 0; b < sd_; ++b, blk += 2 * kChunk) {
+          const fftw_complex* in = w.cplx.p + (static_cast<std::size_t>(i) * sd_ + b) * nf_ + f0;
+          for (int q = 0; q < nq; ++q) { blk[q] = in[q][0]; blk[kChunk + q] = in[q][1]; }
+          for (int q = nq; q < kChunk; ++q) { blk[q] = 0.0; blk[kChunk + q] = 0.0; }
         }
-      }
+    }
   }
 
-  /// chunk-major target spectrum of box j (of count) -> ADD its DC check potential
-  /// (component-major, trg_dim·n)
-  void backward(const double* spec, std::size_t j, std::size_t count, double* check, Work& w) const {
+  /// chunk-major target spectra of boxes j0 .. j0+g−1 (of count) -> ADD their DC check
+  /// potentials (component-major, trg_dim·n each) to check[i].
+  void backward(const double* spec, std::size_t j0, int g, std::size_t count, double* const* check,
+                Work& w) const {
     const int n = surf_.n;
-    for (int c = 0; c < nchunk_; ++c)
-      for (int a = 0; a < td_; ++a) {
-        const double* blk = spec + ((static_cast<std::size_t>(c) * count + j) * td_ + a) * 2 * kChunk;
-        for (int q = 0; q < kChunk; ++q) {
-          const std::size_t f = static_cast<std::size_t>(c) * kChunk + q;
-          if (f >= nf_) break;
-          w.cplx.p[a * nf_ + f][0] = blk[q];
-          w.cplx.p[a * nf_ + f][1] = blk[kChunk + q];
+    for (int c = 0; c < nchunk_; ++c) {
+      const double* blk = spec + (static_cast<std::size_t>(c) * count + j0) * td_ * 2 * kChunk;
+      const std::size_t f0 = static_cast<std::size_t>(c) * kChunk;
+      const int nq = static_cast<int>(std::min<std::size_t>(kChunk, nf_ - f0));
+      for (int i = 0; i < g; ++i)
+        for (int a = 0; a < td_; ++a, blk += 2 * kChunk) {
+          fftw_complex* out = w.cplx.p + (static_cast<std::size_t>(i) * td_ + a) * nf_ + f0;
+          for (int q = 0; q < nq; ++q) { out[q][0] = blk[q]; out[q][1] = blk[kChunk + q]; }
         }
-      }
-    fftw_execute_dft_c2r(bwd_, w.cplx.p, w.real.p);
-    for (int a = 0; a < td_; ++a)
-      for (int k = 0; k < n; ++k) check[a * n + k] += w.real.p[a * n3_ + surf_.grid[k]];
+    }
+    for (int i = 0; i < g; ++i) {
+      fftw_execute_dft_c2r(bwd_, w.cplx.p + static_cast<std::size_t>(i) * td_ * nf_, w.real.p);
+      for (int a = 0; a < td_; ++a)
+        for (int k = 0; k < n; ++k) check[i][a * n + k] += w.real.p[a * n3_ + gidx_[k]];
+    }
   }
 
   /// For one frequency chunk c and one target box: acc += Σ_s K(offset_s) ⊙ src_s (split
@@ -253,6 +280,7 @@ class M2lFft {
   std::size_t n3_ = 0, nf_ = 0;
   fftw_plan fwd_ = nullptr, bwd_ = nullptr;
   std::vector<double> kspec_;
+  std::vector<int> gidx_;  // surface point -> index in the m^3 grid
 };
 
 }  // namespace capsflow::fmm

@@ -2,7 +2,7 @@
 // capsflow::fmm::Surface — KIFMM equivalent/check surfaces: the 6(p−1)²+2 boundary nodes of a
 // p×p×p lattice on the cube [−1,1]^3 (unit half-width). A box of centre c and half-width r uses
 // c + α·r·s with α = kRadInner (upward equivalent, downward check) or kRadOuter (upward check,
-// downward equivalent). grid[k] = index of point k in the (2p)^3 FFT grid used by M2L.
+// downward equivalent). lattice[3k..3k+2] = integer lattice position of point k (used by M2L).
 #include <stdexcept>
 #include <vector>
 
@@ -15,13 +15,12 @@ struct Surface {
   int p = 0;
   int n = 0;
   std::vector<double> x, y, z;  // unit half-width coordinates
-  std::vector<int> grid;        // (ax*2p + ay)*2p + az
+  std::vector<int> lattice;     // (ax, ay, az) of point k at 3k..3k+2, each in [0, p)
 
   explicit Surface(int order = 0) {
     if (order == 0) return;
     if (order < 2) throw std::invalid_argument("capsflow::fmm: order must be >= 2");
     p = order;
-    const int m = 2 * p;
     for (int ax = 0; ax < p; ++ax)
       for (int ay = 0; ay < p; ++ay)
         for (int az = 0; az < p; ++az) {
@@ -30,7 +29,7 @@ struct Surface {
           x.push_back(2.0 * ax / (p - 1) - 1.0);
           y.push_back(2.0 * ay / (p - 1) - 1.0);
           z.push_back(2.0 * az / (p - 1) - 1.0);
-          grid.push_back((ax * m + ay) * m + az);
+          lattice.insert(lattice.end(), {ax, ay, az});
         }
     n = static_cast<int>(x.size());
   }
