@@ -22,12 +22,12 @@ struct CalibrationRow {
 // regularised pseudo-inverses, ~2e-8: see accuracy_floor()).
 // leaf_size and crossover: see perf/fmm/RESULTS.md.
 inline constexpr CalibrationRow kCalibration[] = {
-    {2e-3, 4, 128, 8000},
-    {1e-4, 6, 256, 12000},
-    {1e-5, 7, 320, 14000},
-    {1e-6, 8, 384, 16000},
-    {1e-7, 9, 448, 20000},
-    {0.0, 10, 512, 25000},
+    {2e-3, 4, 200, 8000},
+    {1e-4, 6, 300, 12000},
+    {1e-5, 7, 400, 14000},
+    {1e-6, 8, 450, 16000},
+    {1e-7, 9, 500, 20000},
+    {0.0, 10, 600, 25000},
 };
 
 /// Smallest relative L2 error the Stokeslet FMM reaches reliably in double precision (measured);
