@@ -323,3 +323,30 @@ TEST(RotationSolve, FollowsAFullTankTreadingTurn) {
   }
   EXPECT_LT(orth, 1e-14);  // re-orthonormalised at every update
 }
+
+TEST(Wall, GsmbEnergyMapsSumToTheEnergies) {
+  // Em_i = (sum of element energies around i) / (sum of their reference areas S_i), so
+  // sum_i Em_i S_i = 3 E (each element is counted at its 3 nodes); same for Eb and Esh.
+  Mesh m = icosphere(2);
+  GsmbWall w(m.X, m.T, make_law("skalak", 1.0, 0, 1.0), opts(0.1));
+  const Points x = deform(m.X, 0.8, 31);
+  Points R;
+  w.forces(x, R);
+  Eigen::VectorXd Em, Eb, Es;
+  w.nodal_energy_maps(x, Em, Eb, Es);
+  const WallEnergies E = w.energies(x);
+  const Topology& t = w.topology();
+  double sm = 0, sb = 0, ss = 0;
+  for (int i = 0; i < t.n_nodes; ++i) {
+    double S = 0;
+    for (int p = t.inc_ptr[i]; p < t.inc_ptr[i + 1]; ++p) S += w.elements()[t.inc_elem[p]].m.A0;
+    sm += Em[i] * S;
+    sb += Eb[i] * S;
+    ss += Es[i] * S;
+  }
+  EXPECT_NEAR(sm, 3 * E.membrane, 1e-12 * E.membrane);  // round-off of sums of ~300 terms
+  EXPECT_NEAR(sb, 3 * E.bending, 1e-12 * E.bending);
+  EXPECT_NEAR(ss, 3 * E.shear, 1e-12 * E.shear);
+  EXPECT_GT(E.bending, 0.0);
+  EXPECT_GT(E.shear, 0.0);
+}
