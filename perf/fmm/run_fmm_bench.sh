@@ -15,7 +15,7 @@ F="$B/perf/fmm/fmm_bench --threads 2"
 # 2. peer table: sphere surface, sources = targets, orders around the peers' accuracies
 : > "$OUT/peers.jsonl"
 for n in 1e4 1e5; do for p in 4 6 7 8 9 10; do $F --dist sphere --n $n --order $p --reps 3 >> "$OUT/peers.jsonl"; done; done
-for p in 6 7 9; do $F --dist sphere --n 1e6 --order $p --reps 3 >> "$OUT/peers.jsonl"; done
+for p in 6 7 8 9 10; do $F --dist sphere --n 1e6 --order $p --reps 3 >> "$OUT/peers.jsonl"; done
 # 3. capsflow shapes: 6 Gauss-point sources per mesh node, targets = nodes (sources != targets)
 : > "$OUT/capsflow.jsonl"
 for nt in 2562 10242 40962 163842; do

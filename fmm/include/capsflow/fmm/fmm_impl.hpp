@@ -164,8 +164,8 @@ void Fmm<Kernel>::upward() {
         for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + B.sb;
         double* u[TD];
         for (int k = 0; k < TD; ++k) u[k] = cu_.data() + b * ldc + k * n;
-        p2p<Kernel>(px.data(), py.data(), pz.data(), n, T.sx.data() + B.sb, T.sy.data() + B.sb,
-                    T.sz.data() + B.sb, f, B.nsrc(), u, sc);
+        p2p<Kernel, 2, false>(px.data(), py.data(), pz.data(), n, T.sx.data() + B.sb, T.sy.data() + B.sb,
+                              T.sz.data() + B.sb, f, B.nsrc(), u, sc);
       }
     }
     t_.p2m += detail::wall_now() - t;
@@ -306,8 +306,8 @@ void Fmm<Kernel>::downward_checks() {
         const Node& A = T.nodes[T.X.item[x]];
         const double* f[SD];
         for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
-        p2p<Kernel>(px.data(), py.data(), pz.data(), n, T.sx.data() + A.sb, T.sy.data() + A.sb,
-                    T.sz.data() + A.sb, f, A.nsrc(), u, Kernel::scale() * std::pow(r, -Kernel::homogeneity));
+        p2p<Kernel, 2, false>(px.data(), py.data(), pz.data(), n, T.sx.data() + A.sb, T.sy.data() + A.sb,
+                              T.sz.data() + A.sb, f, A.nsrc(), u, Kernel::scale() * std::pow(r, -Kernel::homogeneity));
       }
     }
   }
@@ -368,15 +368,20 @@ void Fmm<Kernel>::near_field() {
       const double *tx = T.tx.data() + B.tb, *ty = T.ty.data() + B.tb, *tz = T.tz.data() + B.tb;
       double* u[TD];
       for (int k = 0; k < TD; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
+      // Points of distinct boxes have distinct Morton keys, hence never coincide: only the
+      // leaf's own sources need the r = 0 mask.
       auto direct_from = [&](const Node& A) {
         const double* f[SD];
         for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
-        if (fast_rsqrt_)
-          p2p<Kernel, 1>(tx, ty, tz, B.ntrg(), T.sx.data() + A.sb, T.sy.data() + A.sb, T.sz.data() + A.sb,
-                         f, A.nsrc(), u, Kernel::scale());
-        else
-          p2p<Kernel, 2>(tx, ty, tz, B.ntrg(), T.sx.data() + A.sb, T.sy.data() + A.sb, T.sz.data() + A.sb,
-                         f, A.nsrc(), u, Kernel::scale());
+        const double *sx = T.sx.data() + A.sb, *sy = T.sy.data() + A.sb, *sz = T.sz.data() + A.sb;
+        const bool self = &A == &B;
+        if (fast_rsqrt_) {
+          if (self) p2p<Kernel, 1, true>(tx, ty, tz, B.ntrg(), sx, sy, sz, f, A.nsrc(), u, Kernel::scale());
+          else p2p<Kernel, 1, false>(tx, ty, tz, B.ntrg(), sx, sy, sz, f, A.nsrc(), u, Kernel::scale());
+        } else {
+          if (self) p2p<Kernel, 2, true>(tx, ty, tz, B.ntrg(), sx, sy, sz, f, A.nsrc(), u, Kernel::scale());
+          else p2p<Kernel, 2, false>(tx, ty, tz, B.ntrg(), sx, sy, sz, f, A.nsrc(), u, Kernel::scale());
+        }
       };
       for (std::size_t j = T.U.begin[b]; j < T.U.begin[b + 1]; ++j) direct_from(T.nodes[T.U.item[j]]);
       for (std::size_t j = T.W.begin[b]; j < T.W.begin[b + 1]; ++j) {
@@ -388,7 +393,7 @@ void Fmm<Kernel>::near_field() {
         op.surface().place(c, kRadInner * Tree::half_width(D.level), px.data(), py.data(), pz.data());
         const double* f[SD];
         for (int k = 0; k < SD; ++k) f[k] = ue_.data() + d * ldu + k * n;
-        p2p<Kernel>(tx, ty, tz, B.ntrg(), px.data(), py.data(), pz.data(), f, n, u, Kernel::scale());
+        p2p<Kernel, 2, false>(tx, ty, tz, B.ntrg(), px.data(), py.data(), pz.data(), f, n, u, Kernel::scale());
       }
       for (int a = b; a >= 0; a = T.nodes[a].parent)
         if (x_direct_[a])
@@ -422,8 +427,8 @@ void Fmm<Kernel>::local_to_targets() {
       for (int k = 0; k < SD; ++k) f[k] = de_.data() + b * ldu + k * n;
       double* u[TD];
       for (int k = 0; k < TD; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
-      p2p<Kernel>(T.tx.data() + B.tb, T.ty.data() + B.tb, T.tz.data() + B.tb, B.ntrg(), px.data(),
-                  py.data(), pz.data(), f, n, u, Kernel::scale());
+      p2p<Kernel, 2, false>(T.tx.data() + B.tb, T.ty.data() + B.tb, T.tz.data() + B.tb, B.ntrg(), px.data(),
+                            py.data(), pz.data(), f, n, u, Kernel::scale());
     }
   }
   t_.l2p += detail::wall_now() - t;

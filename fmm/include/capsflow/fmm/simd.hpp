@@ -40,14 +40,16 @@ inline VecD fma(VecD a, VecD b, VecD c) { return _mm512_fmadd_pd(a.v, b.v, c.v);
 inline VecD fnma(VecD a, VecD b, VecD c) { return _mm512_fnmadd_pd(a.v, b.v, c.v); }
 // 14-bit hardware estimate refined by Newton steps (14 -> 28 -> 56 bits); masked at r2 == 0.
 // Newton = 2: full double accuracy. Newton = 1: relative error < 6e-9 (used by the FMM near field
-// when the requested tolerance is >= 1e-6, where it is invisible).
-template <int Newton = 2>
+// when the requested tolerance is >= 1e-6, where it is invisible). Masked = false skips the
+// r2 == 0 test: only for point sets known to be disjoint (distinct octree boxes).
+template <int Newton = 2, bool Masked = true>
 inline VecD rsqrt(VecD r2) {
   const __m512d half = _mm512_set1_pd(0.5), three_half = _mm512_set1_pd(1.5);
   __m512d y = _mm512_maskz_rsqrt14_pd(static_cast<__mmask8>(0xFF), r2.v);
   const __m512d hr2 = _mm512_mul_pd(half, r2.v);
   for (int it = 0; it < Newton; ++it)
     y = _mm512_mul_pd(y, _mm512_fnmadd_pd(hr2, _mm512_mul_pd(y, y), three_half));
+  if constexpr (!Masked) return y;
   const __mmask8 nz = _mm512_cmp_pd_mask(r2.v, _mm512_setzero_pd(), _CMP_GT_OQ);
   return _mm512_maskz_mov_pd(nz, y);
 }
@@ -78,7 +80,7 @@ inline VecD operator*(VecD a, VecD b) { return _mm256_mul_pd(a.v, b.v); }
 inline VecD fma(VecD a, VecD b, VecD c) { return _mm256_fmadd_pd(a.v, b.v, c.v); }
 inline VecD fnma(VecD a, VecD b, VecD c) { return _mm256_fnmadd_pd(a.v, b.v, c.v); }
 // Exact 1/sqrt (no float conversion, so any double range is safe); masked at r2 == 0.
-template <int Newton = 2>
+template <int Newton = 2, bool Masked = true>
 inline VecD rsqrt(VecD r2) {
   const __m256d zero = _mm256_setzero_pd();
   const __m256d y = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(r2.v));
@@ -101,7 +103,7 @@ inline VecD operator-(VecD a, VecD b) { return VecD(a.v - b.v); }
 inline VecD operator*(VecD a, VecD b) { return VecD(a.v * b.v); }
 inline VecD fma(VecD a, VecD b, VecD c) { return VecD(a.v * b.v + c.v); }
 inline VecD fnma(VecD a, VecD b, VecD c) { return VecD(c.v - a.v * b.v); }
-template <int Newton = 2>
+template <int Newton = 2, bool Masked = true>
 inline VecD rsqrt(VecD r2) { return VecD(r2.v > 0 ? 1.0 / std::sqrt(r2.v) : 0.0); }
 #endif
 
