@@ -104,7 +104,8 @@ void GsmbWall::rotate(const Eigen::VectorXd& w) {
   }
 }
 
-void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K) {
+void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K,
+                        bool want_fx) {
   const int n = topo_.n_nodes;
   if (x.rows() != n) throw std::invalid_argument("GsmbWall: x has the wrong number of rows");
   // pack the nodal data read by the elements (x, d, -t2, t1: 12 doubles) and the accumulators
@@ -139,15 +140,22 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
         T[a][0] = Vec3(v[6], v[7], v[8]);
         T[a][1] = Vec3(v[9], v[10], v[11]);
       }
-      Vec3 fm[3];
-      membrane_element(R.m, law_, xe, fm);
       BsOut o;
       bs_element(R, xe, de, T, o, want_K);
-      for (int a = 0; a < 3; ++a) {
-        double* acc = acc_[nd[a]].data();
-        for (int c = 0; c < 3; ++c) {
-          acc[c] += fm[a][c] + o.fx[a][c];
-          acc[3 + c] += o.g[a][c];
+      if (want_fx) {
+        Vec3 fm[3];
+        membrane_element(R.m, law_, xe, fm, false);
+        for (int a = 0; a < 3; ++a) {
+          double* acc = acc_[nd[a]].data();
+          for (int c = 0; c < 3; ++c) {
+            acc[c] += fm[a][c] + o.fx[a][c];
+            acc[3 + c] += o.g[a][c];
+          }
+        }
+      } else {
+        for (int a = 0; a < 3; ++a) {
+          double* acc = acc_[nd[a]].data();
+          for (int c = 0; c < 3; ++c) acc[3 + c] += o.g[a][c];
         }
       }
       if (want_K) {
@@ -233,13 +241,19 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     }
     n_prev_ = n_cur_;
   }
+  // The membrane force does not depend on the rotations: when the previous call needed a Newton
+  // correction (the usual RK stage), the first pass skips it and computes only R_theta and K; the
+  // x-forces come from the pass at the converged directors. Results do not depend on this choice.
+  const bool lazy_fx = last_newton_ > 0;
   for (int it = 0;; ++it) {
     // tangent built at the first Newton step of each call and reused by the later steps of the
     // same call (they start within O(newton step^2) of the solution; the residual is exact)
-    evaluate(x, nullptr, nullptr, it == 0);
+    const bool want_fx = !(it == 0 && lazy_fx);
+    evaluate(x, nullptr, nullptr, it == 0, want_fx);
     double res = 0;
     for (int i = 0; i < n2; ++i) res = std::max(res, std::abs(Rth_[i]) / kdiag_[i]);
     st.residual = res;
+    if (res <= opt_.newton_tol && !want_fx) evaluate(x, nullptr, nullptr, false, true);
     if (trace_enabled()) std::fprintf(stderr, "newton %d residual %.3e\n", it, res);
     if (res <= opt_.newton_tol) break;
     if (it >= opt_.max_newton) {
@@ -256,6 +270,7 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     rotate(dw_);
     ++st.newton_iterations;
   }
+  last_newton_ = st.newton_iterations;
   return st;
 }
 

@@ -4,20 +4,6 @@
 
 namespace capsflow::shell {
 
-double MembraneLaw::W1(double I1, double /*I2*/) const {
-  switch (kind) {
-    case LawKind::GeneralizedHooke: return 0.5 * Gs_ + 0.5 * Gs_ * I1 / (1.0 - nu_);
-    case LawKind::NeoHookean: return 0.5 * Gs_;
-    case LawKind::Skalak: default: return 0.5 * Gs_ * (I1 + 1.0);
-  }
-}
-double MembraneLaw::W2(double /*I1*/, double I2) const {
-  switch (kind) {
-    case LawKind::GeneralizedHooke: return -0.5 * Gs_;
-    case LawKind::NeoHookean: { const double j2 = I2 + 1.0; return -0.5 * Gs_ / (j2 * j2); }
-    case LawKind::Skalak: default: return 0.5 * Gs_ * (C * I2 - 1.0);
-  }
-}
 double MembraneLaw::W11(double, double) const {
   switch (kind) {
     case LawKind::GeneralizedHooke: return 0.5 * Gs_ / (1.0 - nu_);

@@ -23,7 +23,7 @@ void MembraneWall::forces(const Points& x, Points& R, WallStats* stats) {
       const MembraneRef& m = ref_[col[k]];
       const Vec3 xe[3] = {x.row(m.n[0]), x.row(m.n[1]), x.row(m.n[2])};
       Vec3 f[3];
-      membrane_element(m, law_, xe, f);
+      membrane_element(m, law_, xe, f, false);
       for (int a = 0; a < 3; ++a) R.row(m.n[a]) += f[a].transpose();
     }
   }

@@ -69,9 +69,9 @@ inline double sym4(const double* c, int i, int j) {
 }
 }  // namespace detail
 
-/// Membrane part: returns A0 W_s and adds nothing; writes nodal forces f = d(A0 W)/dx.
+/// Membrane part: writes nodal forces f = d(A0 W)/dx; returns A0 W_s (0 if !want_energy).
 inline double membrane_element(const MembraneRef& R, const MembraneLaw& law, const Vec3 x[3],
-                               Vec3 f[3]) {
+                               Vec3 f[3], bool want_energy = true) {
   const Vec3 ar = x[1] - x[0], as = x[2] - x[0];
   const double a[3] = {ar.dot(ar), as.dot(as), ar.dot(as)};
   const double I1 = R.B[0] * a[0] + R.B[1] * a[1] + 2.0 * R.B[2] * a[2] - 2.0;
@@ -82,7 +82,7 @@ inline double membrane_element(const MembraneRef& R, const MembraneLaw& law, con
   f[1] = Srr * ar + Srs * as;
   f[2] = Srs * ar + Sss * as;
   f[0] = -(f[1] + f[2]);
-  return R.A0 * law.W(I1, I2);
+  return want_energy ? R.A0 * law.W(I1, I2) : 0.0;
 }
 
 /// Output of the bending + shear kernel.

@@ -62,7 +62,9 @@ class GsmbWall : public Wall {
   WallStats solve_rotations(const Points& x);
   /// One element pass at the current directors: x-forces fx = dE/dx (all parts), rotation residual
   /// R_theta (2N, in the nodal triads) and, if want_K, the theta-theta tangent (see tangent()).
-  void evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K);
+  /// want_fx = false skips the membrane part and the x-forces (fx left stale).
+  void evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K,
+                bool want_fx = true);
   /// Tangent of the last evaluate(want_K = true); include_geometric as in the options.
   const SpMatR& tangent() const { return K_; }
   /// Rotate the nodal triads by the increments w (2N: w1, w2 per node in (t1, t2)).
@@ -98,6 +100,7 @@ class GsmbWall : public Wall {
   std::vector<int> row_base_, row_len2_;  // K value index of node-row i: 4*adj_ptr[i], 2*deg(i)
   Eigen::VectorXd Rth_, dw_, kdiag_;
   BlockPcg pcg_{2};
+  int last_newton_ = 0;  // Newton corrections of the previous call (work-saving heuristic only)
   mutable std::vector<double> partial_;
 };
 

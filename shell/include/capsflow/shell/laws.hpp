@@ -38,8 +38,20 @@ struct MembraneLaw {
     }
   }
   double W(double I1, double I2) const { return W_t<double>(I1, I2); }
-  double W1(double I1, double I2) const;  ///< dW/dI1
-  double W2(double I1, double I2) const;  ///< dW/dI2
+  double W1(double I1, double /*I2*/) const {  ///< dW/dI1 (inline: called per element)
+    switch (kind) {
+      case LawKind::GeneralizedHooke: return 0.5 * Gs_ + 0.5 * Gs_ * I1 / (1.0 - nu_);
+      case LawKind::NeoHookean: return 0.5 * Gs_;
+      case LawKind::Skalak: default: return 0.5 * Gs_ * (I1 + 1.0);
+    }
+  }
+  double W2(double /*I1*/, double I2) const {  ///< dW/dI2
+    switch (kind) {
+      case LawKind::GeneralizedHooke: return -0.5 * Gs_;
+      case LawKind::NeoHookean: { const double j2 = I2 + 1.0; return -0.5 * Gs_ / (j2 * j2); }
+      case LawKind::Skalak: default: return 0.5 * Gs_ * (C * I2 - 1.0);
+    }
+  }
   double W11(double I1, double I2) const;
   double W12(double I1, double I2) const;
   double W22(double I1, double I2) const;
