@@ -24,12 +24,12 @@ double area_to_shear_modulus_ratio(const Scene& s) {
 StabilityEstimate stability_estimate(const Scene& s, double dx) {
   StabilityEstimate e;
   const double ca = s.flow.ca_s;
-  e.membrane = (8.0 / M_PI) / (1.0 + area_to_shear_modulus_ratio(s)) * ca * dx;
+  e.membrane = kMembraneConstant / (1.0 + area_to_shear_modulus_ratio(s)) * ca * dx;
   e.bending = std::numeric_limits<double>::infinity();
   if (s.wall.model == "gsmb") {
     const double a = s.wall.thickness, nu = s.wall.poisson;
     const double gs_over_b = 6.0 * (1.0 - nu) / (a * a);
-    e.bending = (8.0 / std::pow(M_PI, 3)) * gs_over_b * ca * dx * dx * dx;
+    e.bending = kBendingConstant * gs_over_b * ca * dx * dx * dx;
   }
   const double rate = s.flow.gradient.norm();
   e.flow = rate > 0 ? kFlowCap / rate : std::numeric_limits<double>::infinity();

@@ -122,3 +122,19 @@ TEST(Dynamics, HeunIsSecondOrderInTime) {
   EXPECT_GE(order, 1.8) << D[0] << " " << D[1] << " " << D[2];  // Heun: order 2
   EXPECT_LE(order, 2.3) << D[0] << " " << D[1] << " " << D[2];
 }
+
+TEST(Dynamics, VolumeCorrectionRemovesDiscreteFluxDrift) {
+  // Without the correction the P1 boundary integral's O(h²) flux error accumulates into a volume
+  // drift; with it, dV/dt = 0 at every stage and Heun leaves only O(dt³) per step.
+  double drift[2];
+  for (int corrected = 0; corrected < 2; ++corrected) {
+    const Scene s = scene_with({"mesh.level=2", std::string("fluid.volume_correction=") + (corrected ? "true" : "false")});
+    const SurfaceMesh ref = make_reference_mesh(s.mesh);
+    CapsuleDynamics dyn(s, ref);
+    Points x = ref.vertices;
+    for (int k = 0; k < 100; ++k) dyn.heun_step(x, 0.005);  // inside the stability limit (≈ 0.0087)
+    drift[corrected] = std::abs(enclosed_volume(SurfaceMesh{x, ref.triangles}) / enclosed_volume(ref) - 1);
+  }
+  EXPECT_GT(drift[0], 1e-4);  // measured ≈ 2e-3 at this coarse level: the effect exists
+  EXPECT_LT(drift[1], 1e-7);  // 100 steps × O(dt³ · |v|³/ℓ²) round-off-level terms
+}

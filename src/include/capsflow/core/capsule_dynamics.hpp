@@ -2,6 +2,9 @@
 // The coupled capsule problem at fixed time: positions x → node velocities v, through the stage
 // pipeline of the paper (design.md §3):
 //   wall (GSMB: rotation solve, warm-started) → R_s → M(x) q = R_s → v = v∞(x) − S[q].
+// With fluid.volume_correction, v ← v − c n_i with c chosen so that the discrete flux
+// Σ_e A_e n_e·(v0+v1+v2)/3 — exactly dV/dt of the polyhedron — is zero: the O(h²) flux error of
+// the P1 boundary integral (numerics.md §5.1) no longer accumulates into volume drift.
 // And the explicit RK2 (Heun) step built on it. Rotations are a slave variable (argmin of the
 // bending + shear energy at given x): they are not integrated in time.
 #include <map>
@@ -46,11 +49,15 @@ class CapsuleDynamics {
   const Mat3& gradient() const { return L_; }
 
  private:
+  void remove_mean_normal_velocity(const Points& x, Points& v);
+
   Mat3 L_;
+  bool volume_correction_;
+  Triangles tri_;
   std::unique_ptr<shell::Wall> wall_;
   shell::LoadRecovery mass_;
   SingleLayer bie_;
-  Points R_, q_, u_, v1_, v2_, xs_;  // scratch, reused across calls
+  Points R_, q_, u_, v1_, v2_, xs_, nodal_area_normal_;  // scratch, reused across calls
   PhaseTimes times_;
   shell::WallStats last_stats_;
 };

@@ -44,7 +44,7 @@ struct FlowSpec {
 struct TimeSpec {
   bool dt_auto = true;
   double dt = 0;                 // fixed step (when !dt_auto)
-  double dt_safety = 0.5;        // fraction of the stability estimate used by dt = "auto"
+  double dt_safety = 0.7;        // fraction of the (calibrated) stability limit used by dt = "auto"
   double t_end = 5.0;
   bool stop_at_steady = false;
   double steady_tol = 5e-4;      // area change over γ̇t = 1, relative to 4πℓ² (paper §4.1)
@@ -53,6 +53,7 @@ struct TimeSpec {
 struct FluidSpec {
   std::string backend = "auto";  // auto | fmm | direct
   double tolerance = 1e-6;       // FMM relative accuracy
+  bool volume_correction = true; // remove the mean normal velocity (discrete flux error) each stage
 };
 
 struct OutputSpec {
