@@ -8,14 +8,23 @@ double MembraneLaw::W11(double, double) const {
   switch (kind) {
     case LawKind::GeneralizedHooke: return 0.5 * Gs_ / (1.0 - nu_);
     case LawKind::NeoHookean: return 0.0;
+    case LawKind::MooneyRivlin: return 0.0;
     case LawKind::Skalak: default: return 0.5 * Gs_;
   }
 }
-double MembraneLaw::W12(double, double) const { return 0.0; }
-double MembraneLaw::W22(double, double I2) const {
+double MembraneLaw::W12(double, double I2) const {
+  if (kind != LawKind::MooneyRivlin) return 0.0;
+  const double j2 = I2 + 1.0;
+  return -0.5 * Gs_ * C / (j2 * j2);
+}
+double MembraneLaw::W22(double I1, double I2) const {
   switch (kind) {
     case LawKind::GeneralizedHooke: return 0.0;
     case LawKind::NeoHookean: { const double j2 = I2 + 1.0; return Gs_ / (j2 * j2 * j2); }
+    case LawKind::MooneyRivlin: {
+      const double j3 = (I2 + 1.0) * (I2 + 1.0) * (I2 + 1.0);
+      return Gs_ * ((1.0 - C) + C * (I1 + 2.0)) / j3;
+    }
     case LawKind::Skalak: default: return 0.5 * Gs_ * C;
   }
 }
@@ -42,6 +51,7 @@ double MembraneLaw::nu_s() const {
   switch (kind) {
     case LawKind::GeneralizedHooke: return nu_;
     case LawKind::NeoHookean: return 0.5;
+    case LawKind::MooneyRivlin: return 0.5;
     case LawKind::Skalak: default: return C / (1.0 + C);
   }
 }
@@ -50,6 +60,7 @@ const char* MembraneLaw::name() const {
   switch (kind) {
     case LawKind::GeneralizedHooke: return "gh";
     case LawKind::NeoHookean: return "nh";
+    case LawKind::MooneyRivlin: return "mr";
     case LawKind::Skalak: default: return "skalak";
   }
 }
@@ -64,11 +75,15 @@ MembraneLaw make_law(const std::string& name, double Gs, double nu_s, double ska
   } else if (name == "nh") {
     law.kind = LawKind::NeoHookean;
     law.nu_ = 0.5;
+  } else if (name == "mr") {
+    if (!(skalak_c >= 0.0 && skalak_c <= 1.0)) throw std::invalid_argument("make_law: mr needs 0 <= Psi <= 1");
+    law.kind = LawKind::MooneyRivlin;
+    law.C = skalak_c;
   } else if (name == "skalak" || name == "sk") {
     law.kind = LawKind::Skalak;
     law.C = skalak_c;
   } else {
-    throw std::invalid_argument("make_law: unknown membrane law '" + name + "' (gh | nh | skalak)");
+    throw std::invalid_argument("make_law: unknown membrane law '" + name + "' (gh | nh | skalak | mr)");
   }
   return law;
 }

@@ -10,7 +10,8 @@ using namespace capsflow::shell;
 
 namespace {
 std::vector<MembraneLaw> all_laws() {
-  return {make_law("gh", 1.3, 0.3, 0), make_law("nh", 0.7), make_law("skalak", 1.1, 0, 2.5)};
+  return {make_law("gh", 1.3, 0.3, 0), make_law("nh", 0.7), make_law("skalak", 1.1, 0, 2.5),
+          make_law("mr", 0.9, 0, 0.3)};
 }
 // W as a function of the symmetric membrane strain gamma (rr, ss, rs) for reference metric A
 double W_of_gamma(const MembraneLaw& law, const double A[3], const double g[3]) {
@@ -144,3 +145,49 @@ TEST(Laws, UniaxialAndEquibiaxialClosedForms) {
 }
 
 TEST(Laws, UnknownNameThrows) { EXPECT_THROW(make_law("foo", 1), std::invalid_argument); }
+
+TEST(Laws, InvariantDerivativesMatchFiniteDifferences) {
+  for (const auto& law : all_laws())
+    for (double I1 : {-0.3, 0.2, 1.5})
+      for (double I2 : {-0.4, 0.1, 2.0}) {
+        const double h = 1e-5;
+        const double fd1 = (law.W(I1 + h, I2) - law.W(I1 - h, I2)) / (2 * h);
+        const double fd2 = (law.W(I1, I2 + h) - law.W(I1, I2 - h)) / (2 * h);
+        const double fd11 = (law.W1(I1 + h, I2) - law.W1(I1 - h, I2)) / (2 * h);
+        const double fd12 = (law.W1(I1, I2 + h) - law.W1(I1, I2 - h)) / (2 * h);
+        const double fd22 = (law.W2(I1, I2 + h) - law.W2(I1, I2 - h)) / (2 * h);
+        // central differences, h = 1e-5: truncation ~1e-10 x third derivative, round-off ~1e-11 W/h
+        const double tol = 1e-7 * law.Gs();
+        EXPECT_NEAR(law.W1(I1, I2), fd1, tol) << law.name();
+        EXPECT_NEAR(law.W2(I1, I2), fd2, tol) << law.name();
+        EXPECT_NEAR(law.W11(I1, I2), fd11, tol) << law.name();
+        EXPECT_NEAR(law.W12(I1, I2), fd12, tol) << law.name();
+        EXPECT_NEAR(law.W22(I1, I2), fd22, 10 * tol) << law.name();  // larger 4th derivative near I2 = -0.4
+      }
+}
+
+TEST(Laws, MooneyRivlinIsTheThinIncompressibleSheet) {
+  // 3-D incompressible Mooney-Rivlin, W3 = C1 (I1 - 3) + C2 (I2 - 3), lambda3 = 1/(l1 l2),
+  // integrated over the thickness h: W_s = h W3 with G_s = 2 h (C1 + C2), Psi = C2/(C1 + C2).
+  const double Gs = 0.9, Psi = 0.3, h = 0.1;
+  const double C1 = (1 - Psi) * Gs / (2 * h), C2 = Psi * Gs / (2 * h);
+  const MembraneLaw mr = make_law("mr", Gs, 0, Psi);
+  auto W3 = [&](double l1, double l2) {
+    const double l3 = 1 / (l1 * l2);
+    const double i1 = l1 * l1 + l2 * l2 + l3 * l3;
+    const double i2 = l1 * l1 * l2 * l2 + l2 * l2 * l3 * l3 + l3 * l3 * l1 * l1;
+    return h * (C1 * (i1 - 3) + C2 * (i2 - 3));
+  };
+  for (double l1 : {0.8, 1.2, 1.9})
+    for (double l2 : {0.9, 1.4}) {
+      const double I1 = l1 * l1 + l2 * l2 - 2, I2 = l1 * l1 * l2 * l2 - 1;
+      EXPECT_NEAR(mr.W(I1, I2), W3(l1, l2), 1e-12 * (1 + W3(l1, l2)));  // same algebra: round-off
+      // principal tension T1 = (1/l2) dW/dl1 (energy per reference area), central difference
+      const double d = 1e-6;
+      const double T1fd = (W3(l1 + d, l2) - W3(l1 - d, l2)) / (2 * d) / l2;
+      double T1, T2;
+      mr.principal_tensions(l1, l2, T1, T2);
+      EXPECT_NEAR(T1, T1fd, 1e-7 * (1 + std::abs(T1)));
+    }
+  EXPECT_DOUBLE_EQ(mr.nu_s(), 0.5);
+}

@@ -9,6 +9,9 @@
 //   GH  (Eq. 23): W = G_s/4 (2 I1 - 2 I2 + I1^2/(1 - nu_s))        small strain: G_s, nu_s
 //   NH  (Eq. 33): W = G_s/2 (I1 - 1 + 1/(I2 + 1))                  small strain: G_s, nu_s = 1/2
 //   SK         : W = G_s/4 (I1^2 + 2 I1 - 2 I2 + C I2^2)            small strain: G_s, nu_s = C/(1+C)
+//   MR         : W = G_s/2 [(1-Psi)(I1 - 1 + 1/(I2+1)) + Psi((I1+2)/(I2+1) + I2 - 2)]
+//                (thin sheet of incompressible 3-D Mooney-Rivlin, C2/(C1+C2) = Psi;
+//                 Psi = 0 is NH)                                    small strain: G_s, nu_s = 1/2
 // Second Piola-Kirchhoff tension (contravariant, force per reference length):
 //   S^{ab} = dW/dgamma_ab = 2 W1 A^{ab} + 2 W2 J_s^2 a^{ab}   (J_s^2 a^{ab} = adj(a)^{ab}/det A).
 // Principal Cauchy tension (force per deformed length): T1 = 2 (l1/l2) W1 + 2 l1 l2 W2.
@@ -16,13 +19,13 @@
 
 namespace capsflow::shell {
 
-enum class LawKind { GeneralizedHooke, NeoHookean, Skalak };
+enum class LawKind { GeneralizedHooke, NeoHookean, Skalak, MooneyRivlin };
 
 struct MembraneLaw {
   LawKind kind = LawKind::NeoHookean;
   double Gs_ = 1.0;    ///< surface shear modulus G_s
   double nu_ = 0.5;    ///< GH only: surface Poisson ratio
-  double C = 1.0;      ///< Skalak only: area-dilation parameter
+  double C = 1.0;      ///< Skalak: area-dilation parameter; Mooney-Rivlin: Psi in [0, 1]
 
   /// Energy per reference area, templated so that automatic differentiation can use it.
   template <class S>
@@ -32,23 +35,30 @@ struct MembraneLaw {
         return 0.25 * Gs_ * (2.0 * I1 - 2.0 * I2 + I1 * I1 / (1.0 - nu_));
       case LawKind::NeoHookean:
         return 0.5 * Gs_ * (I1 - 1.0 + 1.0 / (I2 + 1.0));
+      case LawKind::MooneyRivlin:
+        return 0.5 * Gs_ * ((1.0 - C) * (I1 - 1.0 + 1.0 / (I2 + 1.0)) + C * ((I1 + 2.0) / (I2 + 1.0) + I2 - 2.0));
       case LawKind::Skalak:
       default:
         return 0.25 * Gs_ * (I1 * I1 + 2.0 * I1 - 2.0 * I2 + C * I2 * I2);
     }
   }
   double W(double I1, double I2) const { return W_t<double>(I1, I2); }
-  double W1(double I1, double /*I2*/) const {  ///< dW/dI1 (inline: called per element)
+  double W1(double I1, double I2) const {  ///< dW/dI1 (inline: called per element)
     switch (kind) {
       case LawKind::GeneralizedHooke: return 0.5 * Gs_ + 0.5 * Gs_ * I1 / (1.0 - nu_);
       case LawKind::NeoHookean: return 0.5 * Gs_;
+      case LawKind::MooneyRivlin: return 0.5 * Gs_ * ((1.0 - C) + C / (I2 + 1.0));
       case LawKind::Skalak: default: return 0.5 * Gs_ * (I1 + 1.0);
     }
   }
-  double W2(double /*I1*/, double I2) const {  ///< dW/dI2
+  double W2(double I1, double I2) const {  ///< dW/dI2
     switch (kind) {
       case LawKind::GeneralizedHooke: return -0.5 * Gs_;
       case LawKind::NeoHookean: { const double j2 = I2 + 1.0; return -0.5 * Gs_ / (j2 * j2); }
+      case LawKind::MooneyRivlin: {
+        const double j2 = I2 + 1.0;
+        return 0.5 * Gs_ * (-(1.0 - C) / (j2 * j2) + C * (1.0 - (I1 + 2.0) / (j2 * j2)));
+      }
       case LawKind::Skalak: default: return 0.5 * Gs_ * (C * I2 - 1.0);
     }
   }
@@ -67,7 +77,8 @@ struct MembraneLaw {
   const char* name() const;
 };
 
-/// name: "gh" | "nh" | "skalak" (also "sk"). nu_s is used by GH only, skalak_c by Skalak only.
+/// name: "gh" | "nh" | "skalak" (also "sk") | "mr" (Mooney-Rivlin, Psi = skalak_c).
+/// nu_s is used by GH only, skalak_c by Skalak (C) and Mooney-Rivlin (Psi).
 /// Throws std::invalid_argument on an unknown name.
 MembraneLaw make_law(const std::string& name, double Gs, double nu_s = 0.5, double skalak_c = 1.0);
 
