@@ -275,6 +275,7 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
 }
 
 void GsmbWall::forces(const Points& x, Points& R_s, WallStats* stats) {
+  if (&R_s == &x) throw std::invalid_argument("GsmbWall::forces: R_s must not alias x");
   const WallStats st = solve_rotations(x);
   if (R_s.rows() != x.rows()) R_s.resize(x.rows(), 3);
   R_s = fx_;

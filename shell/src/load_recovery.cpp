@@ -55,6 +55,8 @@ void LoadRecovery::solve_lumped(const Points& x, const Points& R, Points& q) {
 }
 
 int LoadRecovery::solve(const Points& x, const Points& R, Points& q, double tol) {
+  if (&q == &R || &q == &x) throw std::invalid_argument("LoadRecovery::solve: q must not alias R or x");
+  if (R.rows() != topo_.n_nodes) throw std::invalid_argument("LoadRecovery: R has the wrong number of rows");
   assemble(x);
   const long n = topo_.n_nodes;
   const bool warm = warm_start_ && q.rows() == n;

@@ -1,6 +1,8 @@
 #include "capsflow/shell/wall.hpp"
 #include "capsflow/shell/parallel.hpp"
 
+#include <stdexcept>
+
 namespace capsflow::shell {
 
 MembraneWall::MembraneWall(const Points& X, const Triangles& tri, MembraneLaw law)
@@ -14,6 +16,8 @@ MembraneWall::MembraneWall(const Points& X, const Triangles& tri, MembraneLaw la
 }
 
 void MembraneWall::forces(const Points& x, Points& R, WallStats* stats) {
+  if (x.rows() != topo_.n_nodes) throw std::invalid_argument("MembraneWall: x has the wrong number of rows");
+  if (&R == &x) throw std::invalid_argument("MembraneWall::forces: R_s must not alias x");
   if (R.rows() != x.rows()) R.resize(x.rows(), 3);
   R.setZero();
   for (const auto& col : topo_.colors) {
