@@ -130,8 +130,17 @@ TEST(Wall, DeterministicAcrossThreadCountsAndRestartable) {
     Points x2 = x * 1.001;
     w.forces(x2, R3);
   }
+  Points q1, q2;
+  {
+    LoadRecovery lr(m.T, m.X.rows());
+    omp_set_num_threads(1);
+    lr.solve(x, R1, q1);
+    omp_set_num_threads(std::max(2, nt));
+    lr.solve(x, R1, q2);
+  }
   omp_set_num_threads(nt);
   EXPECT_EQ((R1 - R2).cwiseAbs().maxCoeff(), 0.0);  // bit-identical (fixed summation order)
+  EXPECT_EQ((q1 - q2).cwiseAbs().maxCoeff(), 0.0);  // load recovery: fixed-chunk reductions
   GsmbWall w2(m.X, m.T, make_law("nh", 1.0), opts(0.03));
   w2.set_state(s);
   Points R4;
