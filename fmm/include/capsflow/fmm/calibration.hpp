@@ -20,14 +20,17 @@ struct CalibrationRow {
 //   worst:  1.14e-3  1.99e-3  4.4e-5   2.3e-6   7.6e-7   7.0e-8   2.0e-8   2.6e-8
 // (odd p = 5 is worse than p = 4; p >= 10 hits the double-precision floor of the 1e-10
 // regularised pseudo-inverses, ~2e-8: see accuracy_floor()).
-// leaf_size and crossover: see perf/fmm/RESULTS.md.
+// leaf_size: best of {300..800} at N = 1e5 and 1e6 on the sphere. crossover: N at which setup +
+// one evaluation beats direct_sum (sphere, sources = targets, 2 threads, perf/fmm/RESULTS.md:
+// measured 4.2e3–5.3e3 at 1e-3 (p = 6), 6.8e3–1.0e4 at 1e-6 (p = 8), 1.1e4–1.3e4 at p = 10),
+// rounded up; sources != targets use the geometric mean sqrt(n_src·n_trg).
 inline constexpr CalibrationRow kCalibration[] = {
-    {2e-3, 4, 200, 8000},
-    {1e-4, 6, 300, 12000},
-    {1e-5, 7, 400, 14000},
-    {1e-6, 8, 500, 16000},
-    {1e-7, 9, 600, 20000},
-    {0.0, 10, 600, 25000},
+    {2e-3, 4, 200, 4000},
+    {1e-4, 6, 300, 5000},
+    {1e-5, 7, 400, 7000},
+    {1e-6, 8, 500, 9000},
+    {1e-7, 9, 600, 11000},
+    {0.0, 10, 600, 12000},
 };
 
 /// Smallest relative L2 error the Stokeslet FMM reaches reliably in double precision (measured);
