@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Markdown tables for RESULTS.md from the fmm_bench JSON lines in results/."""
 import json
 import os

@@ -1,7 +1,7 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plot fmm_bench JSON lines: Pareto fronts (time vs error), time vs N, crossover.
 
-usage: plot_fmm.py [RESULTS_DIR]   (default: perf/fmm/results next to this script)
+usage: /usr/bin/python3 plot_fmm.py [RESULTS_DIR]   (Debian python3-matplotlib; default: results/)
 writes pareto.png, time_vs_n.png, crossover.png into perf/fmm/.
 """
 import json
