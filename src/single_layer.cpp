@@ -23,23 +23,29 @@ constexpr double kFmmToleranceMargin = 0.25;
 
 const char* to_string(FarFieldBackend b) { return b == FarFieldBackend::Fmm ? "fmm" : "direct"; }
 
+FarFieldBackend choose_backend(const std::string& requested, Eigen::Index n_elements, Eigen::Index n_nodes,
+                               double tolerance, std::string* reason) {
+  const std::size_t n_src = static_cast<std::size_t>(3 * n_elements), n_trg = static_cast<std::size_t>(n_nodes);
+  std::string why;
+  FarFieldBackend b;
+  if (requested == "direct" || requested == "fmm") {
+    b = requested == "fmm" ? FarFieldBackend::Fmm : FarFieldBackend::Direct;
+    why = fmt::format("forced by the scene (fluid.backend = \"{}\")", requested);
+  } else if (requested == "auto") {
+    const bool direct = fmm::prefer_direct(n_src, n_trg, tolerance);
+    b = direct ? FarFieldBackend::Direct : FarFieldBackend::Fmm;
+    why = fmt::format("auto: {} sources × {} targets is {} the measured FMM/direct crossover at tolerance {:g} ({} points)",
+                      n_src, n_trg, direct ? "below" : "above", tolerance, fmm::direct_crossover(tolerance));
+  } else {
+    throw std::invalid_argument("unknown boundary-integral back end '" + requested + "' (auto, fmm or direct)");
+  }
+  if (reason) *reason = why;
+  return b;
+}
+
 SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt)
     : tri_(triangles), n_nodes_(n_nodes), opt_(opt), rule_(opt.singular_points) {
-  const std::size_t n_src = static_cast<std::size_t>(3 * tri_.rows()), n_trg = static_cast<std::size_t>(n_nodes);
-  if (opt.backend == "direct") {
-    backend_ = FarFieldBackend::Direct;
-    reason_ = "forced by the scene (fluid.backend = \"direct\")";
-  } else if (opt.backend == "fmm") {
-    backend_ = FarFieldBackend::Fmm;
-    reason_ = "forced by the scene (fluid.backend = \"fmm\")";
-  } else if (opt.backend == "auto") {
-    const bool direct = fmm::prefer_direct(n_src, n_trg, opt.tolerance);
-    backend_ = direct ? FarFieldBackend::Direct : FarFieldBackend::Fmm;
-    reason_ = fmt::format("auto: {} sources × {} targets is {} the measured FMM/direct crossover at tolerance {:g} ({} points)",
-                          n_src, n_trg, direct ? "below" : "above", opt.tolerance, fmm::direct_crossover(opt.tolerance));
-  } else {
-    throw std::invalid_argument("unknown boundary-integral back end '" + opt.backend + "' (auto, fmm or direct)");
-  }
+  backend_ = choose_backend(opt.backend, tri_.rows(), n_nodes, opt.tolerance, &reason_);
   if (backend_ == FarFieldBackend::Fmm) {
     fmm::FmmOptions fo;
     // The FMM calibration is in relative L2 error over targets; capsflow promises the tolerance
@@ -76,8 +82,8 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     ring_.insert(ring_.end(), ring.begin(), ring.end());
     ring_start_.push_back(static_cast<int>(ring_.size()));
   }
-  src_.resize(3 * n_src);
-  strength_.resize(3 * n_src);
+  src_.resize(static_cast<size_t>(9 * tri_.rows()));
+  strength_.resize(static_cast<size_t>(9 * tri_.rows()));
 }
 
 SingleLayer::~SingleLayer() = default;

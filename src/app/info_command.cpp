@@ -1,9 +1,13 @@
 // `capsflow info SCENE.toml`: the resolved scene and a report of the reference mesh.
 #include <fmt/core.h>
 
+#include <cmath>
+
 #include "capsflow/core/capsule_setup.hpp"
 #include "capsflow/core/geometry.hpp"
 #include "capsflow/core/mesh_stats.hpp"
+#include "capsflow/core/single_layer.hpp"
+#include "capsflow/core/stability.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {
@@ -30,6 +34,21 @@ int info_command(const InfoOptions& opt) {
   fmt::print("Le (inertia)    {:.4f} {:.4f} {:.4f}\n", ell.semi_axes[0], ell.semi_axes[1], ell.semi_axes[2]);
   fmt::print("L (extents)     {:.4f} {:.4f} {:.4f}\n", L[0], L[1], L[2]);
   fmt::print("D12 D13 D23     {:.4f} {:.4f} {:.4f}\n", D.D12, D.D13, D.D23);
+  fmt::print("\n# run\n");
+  std::string why;
+  const FarFieldBackend b = choose_backend(scene.fluid.backend, mesh.num_elements(), mesh.num_nodes(), scene.fluid.tolerance, &why);
+  fmt::print("back end        {} ({})\n", to_string(b), why);
+  const StabilityEstimate se = stability_estimate(scene, st.edge_min);
+  fmt::print("stable dt       {:.3e} at t = 0 (membrane {:.3e}, bending {:.3e}, flow cap {:.3e}; limited by {})\n",
+             se.limit(), se.membrane, se.bending, se.flow, se.limiting());
+  const double dt = scene.time.dt_auto ? scene.time.dt_safety * se.limit() : scene.time.dt;
+  fmt::print("time step       {:.3e} ({}), about {:.0f} steps to t_end = {:g}\n", dt,
+             scene.time.dt_auto ? fmt::format("auto: {:g} × stable dt, recomputed every step", scene.time.dt_safety) : "fixed",
+             std::ceil(scene.time.t_end / dt), scene.time.t_end);
+  // Measured peak RSS: ≈ 2.4 KB per element with the direct back end (48 MB at 20 480 elements);
+  // the FMM operators add a fixed amount per order (≈ 0.46 GB at p = 9, measured).
+  fmt::print("memory          ~{:.0f} MB{}\n", 2.4e-3 * static_cast<double>(mesh.num_elements()) + 15,
+             b == FarFieldBackend::Fmm ? " + FMM operators (~0.5 GB at p = 9)" : "");
   return 0;
 }
 

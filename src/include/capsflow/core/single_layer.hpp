@@ -54,6 +54,11 @@ struct OffSurfaceReport {
   static constexpr double near_ratio = 2.0, min_ratio = 1e-3;
 };
 
+// The back end for a mesh of n_elements (3 Gauss-point sources each) and n_nodes targets: the
+// scene's choice, or for "auto" the measured crossover; `reason` says why.
+FarFieldBackend choose_backend(const std::string& requested, Eigen::Index n_elements, Eigen::Index n_nodes,
+                               double tolerance, std::string* reason);
+
 class SingleLayer {
  public:
   SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt = {});
