@@ -6,12 +6,26 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <exception>
+#include <unistd.h>
 
 #include "capsflow/core/version.hpp"
 #include "commands.hpp"
 
+// OpenMP threads that spin at barriers collapse when the cores are shared with other processes
+// (the rotation and mass solves have tens of barriers per stage: measured 0.4 s instead of 1 ms
+// per load recovery on a loaded 2-core machine). libgomp reads OMP_WAIT_POLICY once at start-up,
+// so unless the user chose a policy, re-execute once with the passive (sleeping) one.
+void prefer_passive_openmp_wait(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("CAPSFLOW_NO_REEXEC")) return;
+  setenv("OMP_WAIT_POLICY", "passive", 0);
+  setenv("CAPSFLOW_NO_REEXEC", "1", 1);
+  execv("/proc/self/exe", argv);  // returns only on failure: then run with the default policy
+}
+
 int main(int argc, char** argv) {
+  prefer_passive_openmp_wait(argv);
   CLI::App cli{"capsflow — an elastic capsule (MITC3 GSMB shell) freely suspended in Stokes flow"};
   cli.require_subcommand(0, 1);
   bool show_version = false;
