@@ -14,13 +14,6 @@ namespace {
 
 constexpr double kInv8Pi = 1.0 / (8.0 * M_PI);
 
-// Dunavant's 7-point rule (degree 5) in barycentrics; weights sum to 1.
-constexpr double kA1 = 0.059715871789770, kB1 = 0.470142064105115, kW1 = 0.132394152788506;
-constexpr double kA2 = 0.797426985353087, kB2 = 0.101286507323456, kW2 = 0.125939180544827;
-constexpr double kRule7[7][4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3, 0.225},
-                                 {kA1, kB1, kB1, kW1}, {kB1, kA1, kB1, kW1}, {kB1, kB1, kA1, kW1},
-                                 {kA2, kB2, kB2, kW2}, {kB2, kA2, kB2, kW2}, {kB2, kB2, kA2, kW2}};
-
 struct Element {
   Vec3 x[3], q[3];
 };
@@ -36,7 +29,7 @@ Vec3 adaptive_integral(const Element& el, const Vec3& p, const Eigen::Matrix3d& 
   if (dist > 4 * diam || depth >= 14 || area < 1e-14 * parent_area) {
     Vec3 sum = Vec3::Zero();
     if (dist <= 0) return sum;  // target on the element: no finite quadrature (reported as too close)
-    for (const auto& r : kRule7) {
+    for (const auto& r : kDunavant7) {
       const Eigen::RowVector3d lam = r[0] * bary.row(0) + r[1] * bary.row(1) + r[2] * bary.row(2);
       const Vec3 yq = lam[0] * el.x[0] + lam[1] * el.x[1] + lam[2] * el.x[2];
       const Vec3 qq = lam[0] * el.q[0] + lam[1] * el.q[1] + lam[2] * el.q[2];

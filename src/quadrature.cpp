@@ -86,16 +86,18 @@ Vec3 singular_element_apply(const Vec3& x0, const Vec3& x1, const Vec3& x2, cons
 }
 
 namespace {
-// Dunavant's 7-point rule (degree 5): barycentrics and weights (sum 1).
 constexpr double kA1 = 0.059715871789770, kB1 = 0.470142064105115, kW1 = 0.132394152788506;
 constexpr double kA2 = 0.797426985353087, kB2 = 0.101286507323456, kW2 = 0.125939180544827;
-constexpr double kRule7[7][4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3, 0.225},
+}  // namespace
+
+const double kDunavant7[7][4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3, 0.225},
                                  {kA1, kB1, kB1, kW1}, {kB1, kA1, kB1, kW1}, {kB1, kB1, kA1, kW1},
                                  {kA2, kB2, kB2, kW2}, {kB2, kA2, kB2, kW2}, {kB2, kB2, kA2, kW2}};
 
+namespace {
 void refine(const Vec3& p, const Vec3 (&x)[3], const Eigen::Matrix3d& bary, double area, int depth, std::array<Mat3, 3>& out) {
   if (depth == 0) {
-    for (const auto& r : kRule7) {
+    for (const auto& r : kDunavant7) {
       const Eigen::RowVector3d lam = r[0] * bary.row(0) + r[1] * bary.row(1) + r[2] * bary.row(2);
       const Vec3 y = lam[0] * x[0] + lam[1] * x[1] + lam[2] * x[2];
       const Mat3 g = (r[3] * area) * stokeslet_matrix(p - y);
@@ -118,7 +120,7 @@ Vec3 near_element_apply(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec
                         const Vec3& q2) {
   const double area = 0.5 * (x1 - x0).cross(x2 - x0).norm();
   Vec3 sum = Vec3::Zero();
-  for (const auto& r : kRule7) {
+  for (const auto& r : kDunavant7) {
     const Vec3 y = r[0] * x0 + r[1] * x1 + r[2] * x2;
     sum += r[3] * stokeslet_apply(p - y, r[0] * q0 + r[1] * q1 + r[2] * q2);
   }

@@ -19,6 +19,9 @@ struct GaussLegendre {
 // for degree 2). kGaussBary[g][k] = λ_k at Gauss point g. These points are the far-field sources.
 inline constexpr double kGaussBary[3][3] = {{2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 2.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 6, 2.0 / 3}};
 
+// Dunavant's 7-point rule (degree 5) on a triangle: barycentrics λ0..λ2 and weight (sum 1).
+extern const double kDunavant7[7][4];
+
 // ∫_e G(x0 − y) φ_k(y) dS_y for k = 0, 1, 2 over the triangle (x0, x1, x2) whose vertex x0 is the
 // (singular) target. Duffy map y = x0 + u e(v), e(v) = (x1 − x0) + v (x2 − x1): the Jacobian u
 // cancels 1/|x0 − y| and the u-integral is analytic (numerics.md §4.1), leaving
