@@ -37,13 +37,7 @@ Vec3 adaptive_integral(const Element& el, const Vec3& p, const Eigen::Matrix3d& 
     }
     return sum;
   }
-  const Eigen::RowVector3d m01 = 0.5 * (bary.row(0) + bary.row(1)), m12 = 0.5 * (bary.row(1) + bary.row(2)),
-                           m20 = 0.5 * (bary.row(2) + bary.row(0));
-  Eigen::Matrix3d c[4];
-  c[0] << bary.row(0), m01, m20;
-  c[1] << m01, bary.row(1), m12;
-  c[2] << m20, m12, bary.row(2);
-  c[3] << m01, m12, m20;
+  const std::array<Eigen::Matrix3d, 4> c = split_in_four(bary);
   Vec3 sum = Vec3::Zero();
   for (const auto& sub : c) sum += adaptive_integral(el, p, sub, parent_area, depth + 1);
   return sum;

@@ -94,6 +94,17 @@ const double kDunavant7[7][4] = {{1.0 / 3, 1.0 / 3, 1.0 / 3, 0.225},
                                  {kA1, kB1, kB1, kW1}, {kB1, kA1, kB1, kW1}, {kB1, kB1, kA1, kW1},
                                  {kA2, kB2, kB2, kW2}, {kB2, kA2, kB2, kW2}, {kB2, kB2, kA2, kW2}};
 
+std::array<Eigen::Matrix3d, 4> split_in_four(const Eigen::Matrix3d& bary) {
+  const Eigen::RowVector3d m01 = 0.5 * (bary.row(0) + bary.row(1)), m12 = 0.5 * (bary.row(1) + bary.row(2)),
+                           m20 = 0.5 * (bary.row(2) + bary.row(0));
+  std::array<Eigen::Matrix3d, 4> c;
+  c[0] << bary.row(0), m01, m20;
+  c[1] << m01, bary.row(1), m12;
+  c[2] << m20, m12, bary.row(2);
+  c[3] << m01, m12, m20;
+  return c;
+}
+
 namespace {
 void refine(const Vec3& p, const Vec3 (&x)[3], const Eigen::Matrix3d& bary, double area, int depth, std::array<Mat3, 3>& out) {
   if (depth == 0) {
@@ -105,13 +116,7 @@ void refine(const Vec3& p, const Vec3 (&x)[3], const Eigen::Matrix3d& bary, doub
     }
     return;
   }
-  const Eigen::RowVector3d m01 = 0.5 * (bary.row(0) + bary.row(1)), m12 = 0.5 * (bary.row(1) + bary.row(2)),
-                           m20 = 0.5 * (bary.row(2) + bary.row(0));
-  Eigen::Matrix3d c[4];
-  c[0] << bary.row(0), m01, m20;
-  c[1] << m01, bary.row(1), m12;
-  c[2] << m20, m12, bary.row(2);
-  c[3] << m01, m12, m20;
+  const std::array<Eigen::Matrix3d, 4> c = split_in_four(bary);
   for (const auto& sub : c) refine(p, x, sub, area / 4, depth - 1, out);
 }
 }  // namespace

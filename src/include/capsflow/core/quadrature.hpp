@@ -22,6 +22,9 @@ inline constexpr double kGaussBary[3][3] = {{2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 
 // Dunavant's 7-point rule (degree 5) on a triangle: barycentrics λ0..λ2 and weight (sum 1).
 extern const double kDunavant7[7][4];
 
+// The 4-to-1 midpoint split of a sub-triangle given by its vertices' parent barycentrics (rows).
+std::array<Eigen::Matrix3d, 4> split_in_four(const Eigen::Matrix3d& bary);
+
 // ∫_e G(x0 − y) φ_k(y) dS_y for k = 0, 1, 2 over the triangle (x0, x1, x2) whose vertex x0 is the
 // (singular) target. Duffy map y = x0 + u e(v), e(v) = (x1 − x0) + v (x2 − x1): the Jacobian u
 // cancels 1/|x0 − y| and the u-integral is analytic (numerics.md §4.1), leaving
