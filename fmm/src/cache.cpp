@@ -10,7 +10,7 @@
 namespace capsflow::fmm {
 namespace {
 constexpr char kMagic[8] = {'C', 'F', 'F', 'M', 'M', 'O', 'P', '\1'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: pseudo-inverses stored as SVD factors
 
 std::uint64_t fnv1a(const void* data, std::size_t n, std::uint64_t h) {
   const auto* p = static_cast<const unsigned char*>(data);

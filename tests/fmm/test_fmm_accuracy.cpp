@@ -161,3 +161,45 @@ TEST(FmmLaplace, SecondKernelThroughTheSameMachinery) {
     EXPECT_LE(fmm_error<Laplace>(s, t, 1e-6, 48), 1e-6) << dist;  // requested tolerance
   }
 }
+
+class FmmMultiDensity : public ::testing::TestWithParam<std::tuple<double, int, bool>> {};
+
+TEST_P(FmmMultiDensity, OneCallEqualsSeparateCalls) {
+  // k densities in one call share every pass (P2P distances, operator GEMMs, M2L kernel blocks);
+  // each density must still get the answer of its own single-density call.
+  const auto [tol, k, same] = GetParam();
+  const std::size_t ns = 3000, nt = same ? ns : 900;
+  auto s = make_points("clustered", ns, 31);
+  auto t = same ? s : make_points("clustered", nt, 32);
+  FmmOptions o;
+  o.tolerance = tol;
+  o.leaf_size = 48;  // several levels: M2M, L2L, V, W and X lists all take part
+  Fmm<Stokeslet> fmm(o, ops_for<Stokeslet>(order_for_tolerance(tol)));
+  fmm.setup(s.data(), ns, t.data(), nt);
+  ASSERT_GT(fmm.tree().W.item.size() + fmm.tree().X.item.size(), 0u);
+  const auto f = random_density(3 * ns * k, 33);
+  std::vector<double> multi(3 * nt * k, 7.0);
+  fmm.evaluate(f.data(), multi.data(), k);
+  for (int d = 0; d < k; ++d) {
+    std::vector<double> one(3 * nt), part(multi.begin() + 3 * nt * d, multi.begin() + 3 * nt * (d + 1));
+    fmm.evaluate(f.data() + 3 * ns * d, one.data());
+    // 1e-13: the same operations per density, only the blocking of the shared GEMMs may change
+    // the rounding (issue 6 asks for round-off agreement)
+    EXPECT_LE(rel_l2(part, one), 1e-13) << "density " << d << " of " << k;
+    if (d == k - 1) {  // and the shared pass is still an FMM: the last density against direct
+      std::vector<double> ref(3 * nt);
+      direct_sum<Stokeslet>(s.data(), ns, f.data() + 3 * ns * d, t.data(), nt, ref.data());
+      // 2·tol, not tol: this checks that the shared pass is still the FMM (an indexing slip
+      // between densities gives O(1) errors), not the calibration. The calibration's 1e-6 row
+      // (p = 8, worst 7.7e-7 over its matrix) has a thin margin: density 5 here measured
+      // 1.08e-6 (clustered, separate targets) — reported in perf/fmm/RESULTS.md as open.
+      EXPECT_LE(rel_l2(part, ref), 2 * tol);
+    }
+  }
+}
+
+// k = 3 (one shared group), k = 6 (groups of 4 + 2); 1e-6 uses the one-Newton near field, 1e-8
+// the exact one
+INSTANTIATE_TEST_SUITE_P(Counts, FmmMultiDensity,
+                         ::testing::Combine(::testing::Values(1e-6, 1e-8), ::testing::Values(3, 6),
+                                            ::testing::Bool()));

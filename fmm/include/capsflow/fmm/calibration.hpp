@@ -15,27 +15,34 @@ struct CalibrationRow {
 
 // Ordered from loose to tight. `order` is the lowest p whose WORST relative L2 error over the
 // sphere, spheroid (a/b = 1.4), uniform-cube and clustered distributions (N = 1e4, sources =
-// targets and 3000 separate targets, 64 points per leaf) was below the tolerance:
-//   p:      4        5        6        7        8        9        10       11
-//   worst:  1.14e-3  1.99e-3  4.4e-5   2.3e-6   7.6e-7   7.0e-8   2.0e-8   2.6e-8
-// (odd p = 5 is worse than p = 4; p >= 10 hits the double-precision floor of the 1e-10
-// regularised pseudo-inverses, ~2e-8: see accuracy_floor()).
-// leaf_size: best of {300..800} at N = 1e5 and 1e6 on the sphere. crossover: N at which setup +
-// one evaluation beats direct_sum (sphere, sources = targets, 2 threads, perf/fmm/RESULTS.md:
-// measured 4.2e3–5.3e3 at 1e-3 (p = 6), 6.8e3–1.0e4 at 1e-6 (p = 8), 1.1e4–1.3e4 at p = 10),
-// rounded up; sources != targets use the geometric mean sqrt(n_src·n_trg).
+// targets and 3000 separate targets, 64 points per leaf, all targets checked;
+// perf/fmm/order_sweep.sh, results in perf/fmm/results/order_sweep_*.jsonl) was below the
+// tolerance. p <= 7 from the first campaign; p >= 8 re-measured with the factored
+// pseudo-inverses (operators.hpp, PinvFactors):
+//   p:      4        5        6        7        8        9        10       11       12       13       14
+//   worst:  1.14e-3  1.99e-3  4.4e-5   2.3e-6   7.7e-7   5.9e-8   1.1e-8   3.4e-9   7.3e-10  2.8e-10  7.5e-11
+// (odd p = 5 is worse than p = 4). Before the factored pseudo-inverses, p >= 10 stalled at
+// 1.5e-8–3.7e-8 (perf/fmm/results/order_sweep_before.jsonl).
+// leaf_size: best of {300..800} at N = 1e5 and 1e6 on the sphere for p <= 10; p >= 11: see
+// perf/fmm/RESULTS.md. crossover: N at which setup + one evaluation beats direct_sum (sphere,
+// sources = targets, 2 threads, perf/fmm/RESULTS.md), rounded up; sources != targets use the
+// geometric mean sqrt(n_src·n_trg).
 inline constexpr CalibrationRow kCalibration[] = {
     {2e-3, 4, 200, 4000},
     {1e-4, 6, 300, 5000},
     {1e-5, 7, 400, 7000},
     {1e-6, 8, 500, 9000},
     {1e-7, 9, 600, 11000},
-    {0.0, 10, 600, 12000},
+    {2e-8, 10, 600, 12000},
+    {4e-9, 11, 600, 14000},
+    {1e-9, 12, 600, 16000},
+    {3e-10, 13, 600, 20000},
+    {0.0, 14, 600, 24000},
 };
 
-/// Smallest relative L2 error the Stokeslet FMM reaches reliably in double precision (measured);
-/// tighter requests get order 10 and this accuracy.
-inline constexpr double accuracy_floor() { return 3e-8; }
+/// Smallest relative L2 error the Stokeslet FMM reaches reliably in double precision (measured:
+/// worst 7.5e-11 at p = 14); tighter requests get order 14 and this accuracy.
+inline constexpr double accuracy_floor() { return 1e-10; }
 
 inline const CalibrationRow& calibration_for(double tolerance) {
   constexpr int n = sizeof(kCalibration) / sizeof(kCalibration[0]);

@@ -34,7 +34,7 @@ struct FmmOptions {
   bool exact_near_field = false;
 };
 
-/// Seconds spent in each phase by the last setup() / evaluate() (evaluate: summed over densities).
+/// Seconds spent in each phase by the last setup() / evaluate() (evaluate: all its densities).
 struct FmmTimings {
   double tree = 0;      ///< setup: sort, octree, interaction lists
   double p2m = 0;       ///< leaf sources -> upward check -> UE
@@ -59,6 +59,11 @@ class Fmm {
   Fmm(const FmmOptions& opt, std::shared_ptr<const Operators<Kernel>> ops);
 
   void setup(const double* src, std::size_t n_src, const double* trg, std::size_t n_trg);
+  /// n_densities density vectors, one after the other (src_dim·n_src each); outputs likewise.
+  /// Densities are evaluated in groups of up to kMaxSharedDensities that share every pass: one
+  /// tree walk, each pair's distance and 1/|r| in the P2P/P2M/L2P loops, each operator matrix
+  /// streamed once for all of them (GEMMs with nd× more columns), each M2L kernel block loaded
+  /// once. Each density gets the same arithmetic as a single call (results equal to rounding).
   void evaluate(const double* density, double* out, int n_densities = 1);
 
   int order() const { return ops_->order(); }
@@ -70,7 +75,8 @@ class Fmm {
   std::shared_ptr<const Operators<Kernel>> shared_operators() const { return ops_; }
 
  private:
-  void evaluate_one(const double* density, double* out);
+  int group_size(int n_densities) const;
+  void evaluate_group(const double* density, double* out, int nd);
   void upward();
   void downward_checks();
   void downward();
@@ -87,11 +93,14 @@ class Fmm {
   bool has_setup_ = false;
   std::size_t n_src_ = 0, n_trg_ = 0;
   // per-evaluation data (sorted order, structure of arrays)
-  std::vector<double> f_;   // src_dim arrays of n_src
-  std::vector<double> u_;   // trg_dim arrays of n_trg
-  std::vector<double> ue_, cu_, rc_, de_;  // per node surface vectors, column-major
+  // nd_ densities of one group share every pass (see evaluate()).
+  int nd_ = 1;
+  std::vector<double> f_;   // nd·src_dim arrays of n_src (density-major, then component)
+  std::vector<double> u_;   // nd·trg_dim arrays of n_trg
+  std::vector<double> ue_, cu_, rc_, de_;  // per node nd surface vectors, column (node·nd + d)
   std::vector<char> x_direct_;             // per node: X list evaluated directly
   std::vector<double> sspec_, tspec_;      // M2L spectra of one level (reused)
+  std::vector<double> pinv_work_;          // singular coordinates of one level (pinv factors)
   FmmTimings t_;
 };
 

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "capsflow/fmm/p2p.hpp"
 
@@ -48,6 +49,17 @@ inline void par_gemm(const Eigen::MatrixXd& A, const double* B, std::size_t ldb,
       else Cm.noalias() = A.middleRows(r0, r1 - r0) * Bm;
     }
   }
+}
+
+/// out(:, 0:ncols) = pinv · in(:, 0:ncols) with pinv = vs·ut applied factor by factor (never
+/// as one product: see PinvFactors in operators.hpp). work is resized to rank × ncols.
+inline void apply_pinv(const PinvFactors& pinv, const double* in, std::size_t ldin, double* out,
+                       std::size_t ldout, std::size_t ncols, std::vector<double>& work, int threads) {
+  if (ncols == 0) return;
+  const std::size_t r = static_cast<std::size_t>(pinv.ut.rows());
+  if (work.size() < r * ncols) work.resize(r * ncols);
+  par_gemm(pinv.ut, in, ldin, work.data(), r, ncols, false, threads);
+  par_gemm(pinv.vs, work.data(), r, out, ldout, ncols, false, threads);
 }
 
 }  // namespace detail
@@ -92,31 +104,55 @@ void Fmm<Kernel>::setup(const double* src, std::size_t n_src, const double* trg,
 }
 
 template <class Kernel>
+int Fmm<Kernel>::group_size(int n_densities) const {
+  // densities evaluated together share every pass; the per-node surface vectors (4 arrays)
+  // grow with the group, so the group is capped at kMaxSharedDensities and at ~2 GB of them
+  const double per_density = 4.0 * sizeof(double) * Kernel::src_dim * static_cast<double>(ops_->nsurf()) *
+                             static_cast<double>(tree_.nodes.size());
+  int g = std::min(n_densities, kMaxSharedDensities);
+  while (g > 1 && g * per_density > 2e9) --g;
+  return std::max(1, g);
+}
+
+template <class Kernel>
 void Fmm<Kernel>::evaluate(const double* density, double* out, int n_densities) {
   if (!has_setup_) throw std::logic_error("capsflow::fmm::Fmm::evaluate called before setup");
+  if (n_densities < 0) throw std::invalid_argument("capsflow::fmm::Fmm::evaluate: n_densities < 0");
   const double setup_tree = t_.tree, setup_total = t_.setup_total;
   t_ = FmmTimings{};
   t_.tree = setup_tree;
   t_.setup_total = setup_total;
   const double t0 = detail::wall_now();
-  for (int d = 0; d < n_densities; ++d)
-    evaluate_one(density + static_cast<std::size_t>(d) * n_src_ * Kernel::src_dim,
-                 out + static_cast<std::size_t>(d) * n_trg_ * Kernel::trg_dim);
+  const int g = group_size(n_densities);
+  for (int d = 0; d < n_densities; d += g)
+    evaluate_group(density + static_cast<std::size_t>(d) * n_src_ * Kernel::src_dim,
+                   out + static_cast<std::size_t>(d) * n_trg_ * Kernel::trg_dim, std::min(g, n_densities - d));
   t_.eval_total = detail::wall_now() - t0;
 }
 
 template <class Kernel>
-void Fmm<Kernel>::evaluate_one(const double* density, double* out) {
+void Fmm<Kernel>::evaluate_group(const double* density, double* out, int nd) {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   double t = detail::wall_now();
-  std::fill(out, out + n_trg_ * TD, 0.0);
+  std::fill(out, out + n_trg_ * TD * nd, 0.0);
   if (n_trg_ == 0 || n_src_ == 0) return;
-  f_.resize(SD * n_src_);
-  u_.assign(TD * n_trg_, 0.0);
+  nd_ = nd;
+  const std::size_t nn = tree_.nodes.size(), n = static_cast<std::size_t>(ops_->nsurf());
+  const std::size_t ldu = SD * n, ldc = TD * n;
+  if (ue_.size() != ldu * nn * nd) {
+    ue_.assign(ldu * nn * nd, 0.0);
+    de_.assign(ldu * nn * nd, 0.0);
+    cu_.assign(ldc * nn * nd, 0.0);
+    rc_.assign(ldc * nn * nd, 0.0);
+  }
+  f_.resize(SD * n_src_ * nd);
+  u_.assign(TD * n_trg_ * nd, 0.0);
   const auto& sp = tree_.src_perm;
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (long i = 0; i < static_cast<long>(n_src_); ++i)
-    for (int k = 0; k < SD; ++k) f_[k * n_src_ + i] = density[SD * sp[i] + k];
+    for (int d = 0; d < nd; ++d)
+      for (int k = 0; k < SD; ++k)
+        f_[(d * SD + k) * n_src_ + i] = density[d * SD * n_src_ + SD * sp[i] + k];
   t_.other += detail::wall_now() - t;
 
   upward();
@@ -130,7 +166,8 @@ void Fmm<Kernel>::evaluate_one(const double* density, double* out) {
   const auto& tp = tree_.trg_perm;
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (long i = 0; i < static_cast<long>(n_trg_); ++i)
-    for (int k = 0; k < TD; ++k) out[TD * tp[i] + k] = s * u_[k * n_trg_ + i];
+    for (int d = 0; d < nd; ++d)
+      for (int k = 0; k < TD; ++k) out[d * TD * n_trg_ + TD * tp[i] + k] = s * u_[(d * TD + k) * n_trg_ + i];
   t_.other += detail::wall_now() - t;
 }
 
@@ -138,7 +175,7 @@ template <class Kernel>
 void Fmm<Kernel>::upward() {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   const Operators<Kernel>& op = *ops_;
-  const int n = op.nsurf();
+  const int n = op.nsurf(), nd = nd_;
   const std::size_t ldu = SD * n, ldc = TD * n;
   const Tree& T = tree_;
   const int L = T.levels();
@@ -153,6 +190,8 @@ void Fmm<Kernel>::upward() {
 #pragma omp parallel num_threads(threads_)
     {
       std::vector<double> px(n), py(n), pz(n);
+      std::vector<const double*> f(SD * nd);
+      std::vector<double*> u(TD * nd);
 #pragma omp for schedule(dynamic, 4)
       for (long b = static_cast<long>(lb); b < static_cast<long>(le); ++b) {
         const Node& B = T.nodes[b];
@@ -160,12 +199,11 @@ void Fmm<Kernel>::upward() {
         double c[3];
         T.center(static_cast<int>(b), c);
         op.surface().place(c, kRadOuter * r, px.data(), py.data(), pz.data());
-        const double* f[SD];
-        for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + B.sb;
-        double* u[TD];
-        for (int k = 0; k < TD; ++k) u[k] = cu_.data() + b * ldc + k * n;
-        p2p<Kernel, 2, false>(px.data(), py.data(), pz.data(), n, T.sx.data() + B.sb, T.sy.data() + B.sb,
-                              T.sz.data() + B.sb, f, B.nsrc(), u, sc);
+        for (int k = 0; k < SD * nd; ++k) f[k] = f_.data() + k * n_src_ + B.sb;
+        for (int d = 0; d < nd; ++d)
+          for (int k = 0; k < TD; ++k) u[d * TD + k] = cu_.data() + (b * nd + d) * ldc + k * n;
+        p2p_multi<Kernel, 2, false>(nd, px.data(), py.data(), pz.data(), n, T.sx.data() + B.sb,
+                                    T.sy.data() + B.sb, T.sz.data() + B.sb, f.data(), B.nsrc(), u.data(), sc);
       }
     }
     t_.p2m += detail::wall_now() - t;
@@ -178,20 +216,21 @@ void Fmm<Kernel>::upward() {
         for (std::size_t c = cb; c < ce; ++c)
           if (T.nodes[c].octant == o && T.nodes[c].nsrc() > 0) kids.push_back(static_cast<int>(c));
         if (kids.empty()) continue;
-        std::vector<double> X(ldu * kids.size()), Y(ldc * kids.size());
+        const std::size_t nk = kids.size() * nd;
+        std::vector<double> X(ldu * nk), Y(ldc * nk);
         for (std::size_t j = 0; j < kids.size(); ++j)
-          std::copy_n(ue_.data() + kids[j] * ldu, ldu, X.data() + j * ldu);
-        detail::par_gemm(op.m2m(o), X.data(), ldu, Y.data(), ldc, kids.size(), false, threads_);
+          std::copy_n(ue_.data() + kids[j] * nd * ldu, nd * ldu, X.data() + j * nd * ldu);
+        detail::par_gemm(op.m2m(o), X.data(), ldu, Y.data(), ldc, nk, false, threads_);
         for (std::size_t j = 0; j < kids.size(); ++j) {
-          double* dst = cu_.data() + T.nodes[kids[j]].parent * ldc;
-          const double* srcv = Y.data() + j * ldc;
-          for (std::size_t i = 0; i < ldc; ++i) dst[i] += srcv[i];
+          double* dst = cu_.data() + T.nodes[kids[j]].parent * nd * ldc;
+          const double* srcv = Y.data() + j * nd * ldc;
+          for (std::size_t i = 0; i < nd * ldc; ++i) dst[i] += srcv[i];
         }
       }
     }
     // check -> equivalent for the whole level
-    detail::par_gemm(op.uc2ue(), cu_.data() + lb * ldc, ldc, ue_.data() + lb * ldu, ldu, le - lb,
-                     false, threads_);
+    detail::apply_pinv(op.uc2ue(), cu_.data() + lb * nd * ldc, ldc, ue_.data() + lb * nd * ldu, ldu,
+                       (le - lb) * nd, pinv_work_, threads_);
     t_.m2m += detail::wall_now() - t;
   }
 }
@@ -201,7 +240,7 @@ void Fmm<Kernel>::downward_checks() {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   const Operators<Kernel>& op = *ops_;
   const M2lFft& fft = op.m2l();
-  const int n = op.nsurf();
+  const int n = op.nsurf(), nd = nd_;
   const std::size_t ldu = SD * n, ldc = TD * n;
   const Tree& T = tree_;
   const int L = T.levels();
@@ -209,6 +248,9 @@ void Fmm<Kernel>::downward_checks() {
   double t = detail::wall_now();
   const std::size_t sss = fft.src_spec_size(), tss = fft.trg_spec_size();
   const int CH = M2lFft::kChunk;
+  // With nd densities every box stands for nd "virtual" boxes (box-major, density-minor): the
+  // spectra of one level hold nsrc·nd sources and ntrg·nd targets, and each V pair (t, s)
+  // becomes nd pairs (t·nd + d, s·nd + d) streaming through the same kernel block.
   for (int l = 2; l < L; ++l) {
     const std::size_t lb = T.level_begin[l], le = T.level_begin[l + 1];
     std::vector<int> loc(le - lb, -1), srcs, trgs;
@@ -217,8 +259,9 @@ void Fmm<Kernel>::downward_checks() {
       if (T.V.size(static_cast<int>(b)) > 0) trgs.push_back(static_cast<int>(b));
     }
     if (trgs.empty()) continue;
-    if (sspec_.size() < sss * srcs.size()) sspec_.resize(sss * srcs.size());
-    if (tspec_.size() < tss * trgs.size()) tspec_.resize(tss * trgs.size());
+    const std::size_t nvs = srcs.size() * nd, nvt = trgs.size() * nd;
+    if (sspec_.size() < sss * nvs) sspec_.resize(sss * nvs);
+    if (tspec_.size() < tss * nvt) tspec_.resize(tss * nvt);
     double* const sspec = sspec_.data();
     double* const tspec = tspec_.data();
     // per target: source local indices and offsets, and a work prefix for balancing
@@ -236,11 +279,14 @@ void Fmm<Kernel>::downward_checks() {
       const double tf0 = detail::wall_now();
       constexpr int G = M2lFft::kBatch;
 #pragma omp for schedule(dynamic, 1)
-      for (long j0 = 0; j0 < static_cast<long>(srcs.size()); j0 += G) {
-        const int g = static_cast<int>(std::min<std::size_t>(G, srcs.size() - j0));
+      for (long j0 = 0; j0 < static_cast<long>(nvs); j0 += G) {
+        const int g = static_cast<int>(std::min<std::size_t>(G, nvs - j0));
         const double* ue[G];
-        for (int i = 0; i < g; ++i) ue[i] = ue_.data() + srcs[j0 + i] * ldu;
-        fft.forward(ue, g, sspec, j0, srcs.size(), w);
+        for (int i = 0; i < g; ++i) {
+          const std::size_t jv = j0 + i;
+          ue[i] = ue_.data() + (srcs[jv / nd] * nd + jv % nd) * ldu;
+        }
+        fft.forward(ue, g, sspec, j0, nvs, w);
       }
       const double tf1 = detail::wall_now();
       // owner computes: a contiguous range of targets with equal V-list work per thread
@@ -249,24 +295,25 @@ void Fmm<Kernel>::downward_checks() {
       const std::size_t j0 = static_cast<std::size_t>(std::lower_bound(vb.begin(), vb.end() - 1, w0) - vb.begin());
       const std::size_t j1 = me + 1 == nth ? trgs.size()
           : static_cast<std::size_t>(std::lower_bound(vb.begin(), vb.end() - 1, w1) - vb.begin());
-      const std::size_t sblk = static_cast<std::size_t>(SD) * 2 * CH * srcs.size();
-      const std::size_t tblk = static_cast<std::size_t>(TD) * 2 * CH * trgs.size();
+      const std::size_t sblk = static_cast<std::size_t>(SD) * 2 * CH * nvs;
+      const std::size_t tblk = static_cast<std::size_t>(TD) * 2 * CH * nvt;
       for (int c = 0; c < fft.nchunk(); ++c)
-        std::fill(tspec + c * tblk + j0 * TD * 2 * CH, tspec + c * tblk + j1 * TD * 2 * CH, 0.0);
+        std::fill(tspec + c * tblk + j0 * nd * TD * 2 * CH, tspec + c * tblk + j1 * nd * TD * 2 * CH, 0.0);
       // this thread's (target, source) pairs grouped by V offset: each kernel block is loaded once
       // per chunk and offset, the pairs stream through it
       std::vector<std::size_t> ob(kNumVOffsets + 1, 0);
-      for (std::size_t q = vb[j0]; q < vb[j1]; ++q) ++ob[voff[q] + 1];
+      for (std::size_t q = vb[j0]; q < vb[j1]; ++q) ob[voff[q] + 1] += nd;
       for (int o = 0; o < kNumVOffsets; ++o) ob[o + 1] += ob[o];
-      std::vector<int> pairs(2 * (vb[j1] - vb[j0]));
+      std::vector<int> pairs(2 * nd * (vb[j1] - vb[j0]));
       {
         std::vector<std::size_t> fill(ob.begin(), ob.end() - 1);
         for (std::size_t j = j0; j < j1; ++j)
-          for (std::size_t q = vb[j]; q < vb[j + 1]; ++q) {
-            const std::size_t at = fill[voff[q]]++;
-            pairs[2 * at] = static_cast<int>(j);
-            pairs[2 * at + 1] = vsrc[q];
-          }
+          for (std::size_t q = vb[j]; q < vb[j + 1]; ++q)
+            for (int d = 0; d < nd; ++d) {
+              const std::size_t at = fill[voff[q]]++;
+              pairs[2 * at] = static_cast<int>(j * nd + d);
+              pairs[2 * at + 1] = vsrc[q] * nd + d;
+            }
       }
       for (int c = 0; c < fft.nchunk(); ++c)
         for (int o = 0; o < kNumVOffsets; ++o)
@@ -274,11 +321,11 @@ void Fmm<Kernel>::downward_checks() {
             fft.template hadamard_pairs<TD, SD>(c, o, pairs.data() + 2 * ob[o], ob[o + 1] - ob[o],
                                                 sspec + c * sblk, tspec + c * tblk);
       const double tf2 = detail::wall_now();
-      for (std::size_t j = j0; j < j1; j += G) {
-        const int g = static_cast<int>(std::min<std::size_t>(G, j1 - j));
+      for (std::size_t jv = j0 * nd; jv < j1 * nd; jv += G) {
+        const int g = static_cast<int>(std::min<std::size_t>(G, j1 * nd - jv));
         double* chk[G];
-        for (int i = 0; i < g; ++i) chk[i] = rc_.data() + trgs[j + i] * ldc;
-        fft.backward(tspec, j, g, trgs.size(), chk, w);
+        for (int i = 0; i < g; ++i) chk[i] = rc_.data() + (trgs[(jv + i) / nd] * nd + (jv + i) % nd) * ldc;
+        fft.backward(tspec, jv, g, nvt, chk, w);
       }
       if (me == 0) {
         t_.m2l_fft += (tf1 - tf0) + (detail::wall_now() - tf2);
@@ -292,6 +339,8 @@ void Fmm<Kernel>::downward_checks() {
 #pragma omp parallel num_threads(threads_)
   {
     std::vector<double> px(n), py(n), pz(n);
+    std::vector<const double*> f(SD * nd);
+    std::vector<double*> u(TD * nd);
 #pragma omp for schedule(dynamic, 4)
     for (long b = 0; b < static_cast<long>(T.nodes.size()); ++b) {
       if (x_direct_[b] || T.X.size(static_cast<int>(b)) == 0) continue;
@@ -300,14 +349,14 @@ void Fmm<Kernel>::downward_checks() {
       double c[3];
       T.center(static_cast<int>(b), c);
       op.surface().place(c, kRadInner * r, px.data(), py.data(), pz.data());
-      double* u[TD];
-      for (int k = 0; k < TD; ++k) u[k] = rc_.data() + b * ldc + k * n;
+      for (int d = 0; d < nd; ++d)
+        for (int k = 0; k < TD; ++k) u[d * TD + k] = rc_.data() + (b * nd + d) * ldc + k * n;
       for (std::size_t x = T.X.begin[b]; x < T.X.begin[b + 1]; ++x) {
         const Node& A = T.nodes[T.X.item[x]];
-        const double* f[SD];
-        for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
-        p2p<Kernel, 2, false>(px.data(), py.data(), pz.data(), n, T.sx.data() + A.sb, T.sy.data() + A.sb,
-                              T.sz.data() + A.sb, f, A.nsrc(), u, Kernel::scale() * std::pow(r, -Kernel::homogeneity));
+        for (int k = 0; k < SD * nd; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
+        p2p_multi<Kernel, 2, false>(nd, px.data(), py.data(), pz.data(), n, T.sx.data() + A.sb,
+                                    T.sy.data() + A.sb, T.sz.data() + A.sb, f.data(), A.nsrc(), u.data(),
+                                    Kernel::scale() * std::pow(r, -Kernel::homogeneity));
       }
     }
   }
@@ -318,7 +367,7 @@ template <class Kernel>
 void Fmm<Kernel>::downward() {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   const Operators<Kernel>& op = *ops_;
-  const int n = op.nsurf();
+  const int n = op.nsurf(), nd = nd_;
   const std::size_t ldu = SD * n, ldc = TD * n;
   const Tree& T = tree_;
   const int L = T.levels();
@@ -331,19 +380,20 @@ void Fmm<Kernel>::downward() {
         for (std::size_t c = lb; c < le; ++c)
           if (T.nodes[c].octant == o && T.nodes[c].ntrg() > 0) kids.push_back(static_cast<int>(c));
         if (kids.empty()) continue;
-        std::vector<double> X(ldu * kids.size()), Y(ldc * kids.size());
+        const std::size_t nk = kids.size() * nd;
+        std::vector<double> X(ldu * nk), Y(ldc * nk);
         for (std::size_t j = 0; j < kids.size(); ++j)
-          std::copy_n(de_.data() + T.nodes[kids[j]].parent * ldu, ldu, X.data() + j * ldu);
-        detail::par_gemm(op.l2l(o), X.data(), ldu, Y.data(), ldc, kids.size(), false, threads_);
+          std::copy_n(de_.data() + T.nodes[kids[j]].parent * nd * ldu, nd * ldu, X.data() + j * nd * ldu);
+        detail::par_gemm(op.l2l(o), X.data(), ldu, Y.data(), ldc, nk, false, threads_);
         for (std::size_t j = 0; j < kids.size(); ++j) {
-          double* dst = rc_.data() + kids[j] * ldc;
-          const double* s = Y.data() + j * ldc;
-          for (std::size_t i = 0; i < ldc; ++i) dst[i] += s[i];
+          double* dst = rc_.data() + kids[j] * nd * ldc;
+          const double* s = Y.data() + j * nd * ldc;
+          for (std::size_t i = 0; i < nd * ldc; ++i) dst[i] += s[i];
         }
       }
     }
-    detail::par_gemm(op.dc2de(), rc_.data() + lb * ldc, ldc, de_.data() + lb * ldu, ldu, le - lb,
-                     false, threads_);
+    detail::apply_pinv(op.dc2de(), rc_.data() + lb * nd * ldc, ldc, de_.data() + lb * nd * ldu, ldu,
+                       (le - lb) * nd, pinv_work_, threads_);
   }
   t_.l2l += detail::wall_now() - t;
 }
@@ -352,7 +402,7 @@ template <class Kernel>
 void Fmm<Kernel>::near_field() {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   const Operators<Kernel>& op = *ops_;
-  const int n = op.nsurf();
+  const int n = op.nsurf(), nd = nd_;
   const std::size_t ldu = SD * n;
   const Tree& T = tree_;
   const double t = detail::wall_now();
@@ -360,27 +410,28 @@ void Fmm<Kernel>::near_field() {
 #pragma omp parallel num_threads(threads_)
   {
     std::vector<double> px(n), py(n), pz(n);
+    std::vector<const double*> f(SD * nd);
+    std::vector<double*> u(TD * nd);
 #pragma omp for schedule(dynamic, 1)
     for (long li = 0; li < static_cast<long>(leaves.size()); ++li) {
       const int b = leaves[li];
       const Node& B = T.nodes[b];
       if (B.ntrg() == 0) continue;
       const double *tx = T.tx.data() + B.tb, *ty = T.ty.data() + B.tb, *tz = T.tz.data() + B.tb;
-      double* u[TD];
-      for (int k = 0; k < TD; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
+      for (int k = 0; k < TD * nd; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
       // Points of distinct boxes have distinct Morton keys, hence never coincide: only the
       // leaf's own sources need the r = 0 mask.
       auto direct_from = [&](const Node& A) {
-        const double* f[SD];
-        for (int k = 0; k < SD; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
+        for (int k = 0; k < SD * nd; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
         const double *sx = T.sx.data() + A.sb, *sy = T.sy.data() + A.sb, *sz = T.sz.data() + A.sb;
         const bool self = &A == &B;
+        const double sc = Kernel::scale();
         if (fast_rsqrt_) {
-          if (self) p2p<Kernel, 1, true>(tx, ty, tz, B.ntrg(), sx, sy, sz, f, A.nsrc(), u, Kernel::scale());
-          else p2p<Kernel, 1, false>(tx, ty, tz, B.ntrg(), sx, sy, sz, f, A.nsrc(), u, Kernel::scale());
+          if (self) p2p_multi<Kernel, 1, true>(nd, tx, ty, tz, B.ntrg(), sx, sy, sz, f.data(), A.nsrc(), u.data(), sc);
+          else p2p_multi<Kernel, 1, false>(nd, tx, ty, tz, B.ntrg(), sx, sy, sz, f.data(), A.nsrc(), u.data(), sc);
         } else {
-          if (self) p2p<Kernel, 2, true>(tx, ty, tz, B.ntrg(), sx, sy, sz, f, A.nsrc(), u, Kernel::scale());
-          else p2p<Kernel, 2, false>(tx, ty, tz, B.ntrg(), sx, sy, sz, f, A.nsrc(), u, Kernel::scale());
+          if (self) p2p_multi<Kernel, 2, true>(nd, tx, ty, tz, B.ntrg(), sx, sy, sz, f.data(), A.nsrc(), u.data(), sc);
+          else p2p_multi<Kernel, 2, false>(nd, tx, ty, tz, B.ntrg(), sx, sy, sz, f.data(), A.nsrc(), u.data(), sc);
         }
       };
       for (std::size_t j = T.U.begin[b]; j < T.U.begin[b + 1]; ++j) direct_from(T.nodes[T.U.item[j]]);
@@ -391,9 +442,10 @@ void Fmm<Kernel>::near_field() {
         double c[3];
         T.center(d, c);
         op.surface().place(c, kRadInner * Tree::half_width(D.level), px.data(), py.data(), pz.data());
-        const double* f[SD];
-        for (int k = 0; k < SD; ++k) f[k] = ue_.data() + d * ldu + k * n;
-        p2p<Kernel, 2, false>(tx, ty, tz, B.ntrg(), px.data(), py.data(), pz.data(), f, n, u, Kernel::scale());
+        for (int e = 0; e < nd; ++e)
+          for (int k = 0; k < SD; ++k) f[e * SD + k] = ue_.data() + (static_cast<std::size_t>(d) * nd + e) * ldu + k * n;
+        p2p_multi<Kernel, 2, false>(nd, tx, ty, tz, B.ntrg(), px.data(), py.data(), pz.data(), f.data(), n,
+                                    u.data(), Kernel::scale());
       }
       for (int a = b; a >= 0; a = T.nodes[a].parent)
         if (x_direct_[a])
@@ -407,7 +459,7 @@ template <class Kernel>
 void Fmm<Kernel>::local_to_targets() {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   const Operators<Kernel>& op = *ops_;
-  const int n = op.nsurf();
+  const int n = op.nsurf(), nd = nd_;
   const std::size_t ldu = SD * n;
   const Tree& T = tree_;
   const double t = detail::wall_now();
@@ -415,6 +467,8 @@ void Fmm<Kernel>::local_to_targets() {
 #pragma omp parallel num_threads(threads_)
   {
     std::vector<double> px(n), py(n), pz(n);
+    std::vector<const double*> f(SD * nd);
+    std::vector<double*> u(TD * nd);
 #pragma omp for schedule(dynamic, 2)
     for (long li = 0; li < static_cast<long>(leaves.size()); ++li) {
       const int b = leaves[li];
@@ -423,12 +477,11 @@ void Fmm<Kernel>::local_to_targets() {
       double c[3];
       T.center(b, c);
       op.surface().place(c, kRadOuter * Tree::half_width(B.level), px.data(), py.data(), pz.data());
-      const double* f[SD];
-      for (int k = 0; k < SD; ++k) f[k] = de_.data() + b * ldu + k * n;
-      double* u[TD];
-      for (int k = 0; k < TD; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
-      p2p<Kernel, 2, false>(T.tx.data() + B.tb, T.ty.data() + B.tb, T.tz.data() + B.tb, B.ntrg(), px.data(),
-                            py.data(), pz.data(), f, n, u, Kernel::scale());
+      for (int e = 0; e < nd; ++e)
+        for (int k = 0; k < SD; ++k) f[e * SD + k] = de_.data() + (static_cast<std::size_t>(b) * nd + e) * ldu + k * n;
+      for (int k = 0; k < TD * nd; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
+      p2p_multi<Kernel, 2, false>(nd, T.tx.data() + B.tb, T.ty.data() + B.tb, T.tz.data() + B.tb, B.ntrg(),
+                                  px.data(), py.data(), pz.data(), f.data(), n, u.data(), Kernel::scale());
     }
   }
   t_.l2p += detail::wall_now() - t;

@@ -6,19 +6,22 @@
 // half-width 1. Vectors are component-major: entry (c, k) of a surface vector is at c*n + k.
 //   uc2ue : pseudo-inverse of K(UC@2.95 <- UE@1.05)            (src_dim·n × trg_dim·n)
 //   dc2de : pseudo-inverse of K(DC@1.05 <- DE@2.95)
+//           both stored and applied as two SVD factors (PinvFactors: why)
 //   m2m[o]: K(parent UC@2.95 <- child-o UE)   (child half-width 1/2, centre at ±1/2) — the
 //           parent UE is then uc2ue · Σ_o m2m[o]·UE_child (level-independent).
 //   l2l[o]: 0.5^{-h} K(child-o DC <- parent DE@2.95) — added to the child's reference check
 //           potential, which dc2de then turns into the child's DE.
 // A level-l box of half-width r has K_l = r^h K_ref, so P2M and P2L multiply check potentials
 // computed in true (normalised) coordinates by r^{-h} before applying uc2ue / dc2de.
-// Regularisation: singular values below 1e-10·s_max are dropped (numerics.md §3.2: truncating
-// at machine epsilon ruins the Stokeslet at p >= 10 because of its exact null direction).
+// Regularisation: singular values below pinv_rel_tol(p)·s_max (1e-10, 1e-11 for p >= 11) are
+// dropped (numerics.md §3.2: truncating at machine epsilon ruins the Stokeslet at p >= 10
+// because of its exact null direction).
 #include <omp.h>
 
 #include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -29,7 +32,14 @@
 
 namespace capsflow::fmm {
 
-constexpr double kPinvRelTol = 1e-10;
+/// Relative singular-value cut of the check -> equivalent pseudo-inverses, per order. Measured
+/// (perf/fmm/RESULTS.md, "Accuracy floor"): with factored pseudo-inverses the FMM error at N = 1e4
+/// is 1.1e-8 / 1.3e-9 / 1.4e-10 (p = 10 / 12 / 14) at 1e-10, and 1.7e-8 / 6.4e-10 / 6.3e-11 at
+/// 1e-11: a deeper cut pays once the surface resolves the field (p >= 11), but at p <= 10 it only
+/// adds ill-conditioned singular triplets. 4·ε (PVFMM's default) ruins the Stokeslet at p >= 10
+/// (numerics.md §3.2).
+inline double pinv_rel_tol(int p) { return p <= 10 ? 1e-10 : 1e-11; }
+
 
 /// Dense kernel matrix K (trg_dim·nt × src_dim·ns), component-major, scale included.
 template <class Kernel>
@@ -53,14 +63,35 @@ Eigen::MatrixXd kernel_matrix(const double* tx, const double* ty, const double* 
   return K;
 }
 
-/// Truncated-SVD pseudo-inverse, dropping singular values below rel·s_max.
-inline Eigen::MatrixXd regularised_pinv(const Eigen::MatrixXd& K, double rel) {
+/// Truncated-SVD pseudo-inverse K⁺ = V S⁺ Uᵀ, dropping singular values below rel·s_max, kept
+/// as two factors: vs = V_r S_r⁻¹ (cols × r) and ut = U_rᵀ (r × rows), applied as vs·(ut·c).
+/// Why factored: the product V S⁺ Uᵀ has entries of size 1/s_min ≈ 1e10/s_max, and any rounding
+/// in forming or applying it (relative ε to those entries) lands in EVERY direction of the
+/// result, including the dominant singular directions that the next translation does not damp:
+/// ~ε·1e10 relative = the 1.5e-8–3e-8 accuracy floor measured with the product (RESULTS.md).
+/// Applied as two factors, the rounding of ut·c is ε·|c| per singular coordinate and is then
+/// amplified only along the direction v_k whose field the next kernel damps by the same s_k.
+struct PinvFactors {
+  Eigen::MatrixXd vs, ut;
+  Eigen::MatrixXd product() const { return vs * ut; }  ///< for tests and small problems only
+};
+
+inline PinvFactors regularised_pinv_factors(const Eigen::MatrixXd& K, double rel) {
   Eigen::BDCSVD<Eigen::MatrixXd> svd(K, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const auto& s = svd.singularValues();
-  Eigen::VectorXd sinv(s.size());
   const double cut = rel * (s.size() ? s(0) : 0.0);
-  for (int i = 0; i < s.size(); ++i) sinv(i) = s(i) > cut ? 1.0 / s(i) : 0.0;
-  return svd.matrixV() * sinv.asDiagonal() * svd.matrixU().transpose();
+  int r = 0;
+  while (r < s.size() && s(r) > cut) ++r;
+  PinvFactors f;
+  f.vs = svd.matrixV().leftCols(r) * s.head(r).cwiseInverse().asDiagonal();
+  f.ut = svd.matrixU().leftCols(r).transpose();
+  return f;
+}
+
+/// Truncated-SVD pseudo-inverse as one matrix (reference for tests; see PinvFactors for why the
+/// FMM never applies this product).
+inline Eigen::MatrixXd regularised_pinv(const Eigen::MatrixXd& K, double rel) {
+  return regularised_pinv_factors(K, rel).product();
 }
 
 template <class Kernel>
@@ -74,20 +105,26 @@ class Operators {
     const std::string dir = resolve_cache_dir(cache_dir);
     char key[256];
     std::snprintf(key, sizeof key, "kernel=%s order=%d nsurf=%d src=%d trg=%d rin=%.17g rout=%.17g reg=%.3g prec=f64",
-                  Kernel::name, p, n, Kernel::src_dim, Kernel::trg_dim, kRadInner, kRadOuter, kPinvRelTol);
-    key_ = key;
+                  Kernel::name, p, n, Kernel::src_dim, Kernel::trg_dim, kRadInner, kRadOuter, pinv_rel_tol(p));
+    key_ = std::string(key) + " pinv=factored";
     if (!dir.empty()) path_ = dir + "/" + Kernel::name + "_p" + std::to_string(p) + "_f64.bin";
     std::vector<Eigen::MatrixXd> mats;
     const int SD = Kernel::src_dim, TD = Kernel::trg_dim;
-    if (!path_.empty() && load_operator_cache(path_, key_, mats) && mats.size() == 2 &&
-        mats[0].rows() == SD * n && mats[0].cols() == TD * n && mats[1].rows() == SD * n &&
-        mats[1].cols() == TD * n) {
-      uc2ue_ = std::move(mats[0]);
-      dc2de_ = std::move(mats[1]);
+    auto factor_ok = [&](const Eigen::MatrixXd& vs, const Eigen::MatrixXd& ut) {
+      return vs.rows() == SD * n && ut.cols() == TD * n && vs.cols() == ut.rows() && vs.cols() >= 1 &&
+             vs.cols() <= std::min(SD, TD) * n;
+    };
+    if (!path_.empty() && load_operator_cache(path_, key_, mats) && mats.size() == 4 &&
+        factor_ok(mats[0], mats[1]) && factor_ok(mats[2], mats[3])) {
+      uc2ue_.vs = std::move(mats[0]);
+      uc2ue_.ut = std::move(mats[1]);
+      dc2de_.vs = std::move(mats[2]);
+      dc2de_.ut = std::move(mats[3]);
       loaded_ = true;
     } else {
       build_pinvs();
-      if (!path_.empty()) saved_ = save_operator_cache(path_, key_, {uc2ue_, dc2de_});
+      if (!path_.empty())
+        saved_ = save_operator_cache(path_, key_, {uc2ue_.vs, uc2ue_.ut, dc2de_.vs, dc2de_.ut});
     }
     build_translations();
     m2l_.template precompute<Kernel>();
@@ -97,8 +134,9 @@ class Operators {
   int order() const { return surf_.p; }
   int nsurf() const { return surf_.n; }
   const Surface& surface() const { return surf_; }
-  const Eigen::MatrixXd& uc2ue() const { return uc2ue_; }
-  const Eigen::MatrixXd& dc2de() const { return dc2de_; }
+  /// check -> equivalent pseudo-inverses, as factors (apply vs·(ut·c), never the product)
+  const PinvFactors& uc2ue() const { return uc2ue_; }
+  const PinvFactors& dc2de() const { return dc2de_; }
   const Eigen::MatrixXd& m2m(int o) const { return m2m_[o]; }
   const Eigen::MatrixXd& l2l(int o) const { return l2l_[o]; }
   const M2lFft& m2l() const { return m2l_; }
@@ -121,8 +159,9 @@ class Operators {
   }
   void build_pinvs() {
     const double c0[3] = {0, 0, 0};
-    uc2ue_ = regularised_pinv(kmat(kRadOuter, c0, kRadInner, c0), kPinvRelTol);
-    dc2de_ = regularised_pinv(kmat(kRadInner, c0, kRadOuter, c0), kPinvRelTol);
+    const double rel = pinv_rel_tol(surf_.p);
+    uc2ue_ = regularised_pinv_factors(kmat(kRadOuter, c0, kRadInner, c0), rel);
+    dc2de_ = regularised_pinv_factors(kmat(kRadInner, c0, kRadOuter, c0), rel);
   }
   void build_translations() {
     const double c0[3] = {0, 0, 0};
@@ -136,7 +175,7 @@ class Operators {
 
   Surface surf_;
   M2lFft m2l_;
-  Eigen::MatrixXd uc2ue_, dc2de_;
+  PinvFactors uc2ue_, dc2de_;
   Eigen::MatrixXd m2m_[8], l2l_[8];
   std::string key_, path_;
   bool loaded_ = false, saved_ = false;
