@@ -2,7 +2,7 @@
 //
 //   fmm_bench --dist sphere|spheroid|cube|clustered --n 100000 [--ntrg M] [--tol 1e-6 | --order p]
 //             [--leaf L] [--threads T] [--reps 3] [--sample 1000] [--kernel stokeslet|laplace]
-//             [--cache-dir DIR] [--seed S]
+//             [--cache-dir DIR] [--seed S] [--densities K]
 //   fmm_bench --input points.txt [--output velocities.txt] [--tol ..] ...
 //
 // Prints one JSON line per run with: dist, n (sources), ntrg, tol, order, leaf, threads,
@@ -12,6 +12,10 @@
 // extrapolated from the sample), ops_s (operator build or cache load), phase breakdown.
 // --ntrg M (M > 0) uses M separate targets from the same distribution (sources != targets);
 // default: targets = sources.
+// --densities K (K > 1): K random density vectors evaluated by ONE evaluate(f, u, K) call; eval_s
+// is the median time of that call, eval_seq_s the median time of K separate single-density
+// calls, multi_speedup = eval_seq_s / eval_s, multi_vs_single = relative L2 difference between
+// the two results (all densities); errors are those of density 0.
 //
 // File format of --input (text): first line "n_src n_trg"; then n_src lines "x y z f1 f2 f3"
 // (one density value per component of the kernel); then n_trg lines "x y z". n_trg = 0 means
@@ -45,7 +49,7 @@ struct Args {
   std::string dist = "sphere", kernel = "stokeslet", input, output, cache_dir;
   std::size_t n = 10000, ntrg = 0;
   double tol = 1e-6;
-  int order = 0, leaf = 0, threads = 0, reps = 3, sample = 1000;
+  int order = 0, leaf = 0, threads = 0, reps = 3, sample = 1000, densities = 1;
   unsigned seed = 1;
 };
 
@@ -68,7 +72,7 @@ int run(const Args& a) {
     same = nt == 0;
   } else {
     src = capsflow::fmm::testing::make_points(a.dist, a.n, a.seed);
-    f = capsflow::fmm::testing::random_density(SD * a.n, a.seed + 1);
+    f = capsflow::fmm::testing::random_density(SD * a.n * std::max(1, a.densities), a.seed + 1);
     if (a.ntrg > 0) { trg = capsflow::fmm::testing::make_points(a.dist, a.ntrg, a.seed + 2); same = false; }
   }
   if (same) trg = src;
@@ -78,16 +82,28 @@ int run(const Args& a) {
   double t = now();
   Fmm<Kernel> fmm(o);
   const double ops_s = now() - t;
-  std::vector<double> setup_t, eval_t, u(TD * nt);
+  const int K = a.input.empty() ? std::max(1, a.densities) : 1;
+  std::vector<double> setup_t, eval_t, seq_t, u(TD * nt * K), useq;
   FmmTimings tm;
   for (int r = 0; r < std::max(1, a.reps); ++r) {
     t = now();
     fmm.setup(src.data(), ns, trg.data(), nt);
     setup_t.push_back(now() - t);
     t = now();
-    fmm.evaluate(f.data(), u.data());
+    fmm.evaluate(f.data(), u.data(), K);
     eval_t.push_back(now() - t);
     if (eval_t.back() <= median(eval_t)) tm = fmm.timings();
+    if (K > 1) {
+      useq.assign(u.size(), 0.0);
+      t = now();
+      for (int d = 0; d < K; ++d) fmm.evaluate(f.data() + SD * ns * d, useq.data() + TD * nt * d);
+      seq_t.push_back(now() - t);
+    }
+  }
+  double mv_num = 0, mv_den = 0;
+  for (std::size_t i = 0; i < useq.size(); ++i) {
+    mv_num += (u[i] - useq[i]) * (u[i] - useq[i]);
+    mv_den += useq[i] * useq[i];
   }
   if (!a.output.empty()) {
     std::FILE* fo = std::fopen(a.output.c_str(), "w");
@@ -126,6 +142,7 @@ int run(const Args& a) {
               "\"rel_l2_error\":%.3e,\"max_rel_error\":%.3e,\"direct_s\":%.4f,\"direct_pairs_per_s\":%.3e,"
               "\"ops_s\":%.3f,\"ops_cached\":%s,\"levels\":%d,\"nv\":%zu,\"nodes\":%zu,\"leaves\":%zu,"
               "\"phases\":{\"p2p\":%.4f,\"m2l\":%.4f,\"p2m\":%.4f,\"m2m\":%.4f,\"l2l\":%.4f,\"l2p\":%.4f,\"x\":%.4f,\"other\":%.4f,\"m2l_fft\":%.4f,\"m2l_hadamard\":%.4f},"
+              "\"densities\":%d,\"eval_seq_s\":%.4f,\"multi_speedup\":%.3f,\"multi_vs_single\":%.2e,"
               "\"isa\":\"%s\"}\n",
               Kernel::name, a.input.empty() ? a.dist.c_str() : "file", ns, nt, same ? "true" : "false",
               a.tol, fmm.order(), fmm.leaf_size(), fmm.threads(), median(setup_t), median(eval_t),
@@ -133,7 +150,9 @@ int run(const Args& a) {
               direct_sample > 0 ? static_cast<double>(ns) * m / direct_sample : 0.0, ops_s,
               fmm.operators().loaded_from_cache() ? "true" : "false", fmm.tree().levels(), fmm.tree().V.item.size(),
               fmm.tree().nodes.size(), fmm.tree().leaves.size(), tm.p2p, tm.m2l, tm.p2m, tm.m2m,
-              tm.l2l, tm.l2p, tm.x_list, tm.other, tm.m2l_fft, tm.m2l_hadamard, simd::isa_name());
+              tm.l2l, tm.l2p, tm.x_list, tm.other, tm.m2l_fft, tm.m2l_hadamard, K, median(seq_t),
+              K > 1 && median(eval_t) > 0 ? median(seq_t) / median(eval_t) : 1.0,
+              mv_den > 0 ? std::sqrt(mv_num / mv_den) : 0.0, simd::isa_name());
   std::fflush(stdout);
   return 0;
 }
@@ -161,6 +180,7 @@ int main(int argc, char** argv) {
     else if (k == "--input") a.input = val();
     else if (k == "--output") a.output = val();
     else if (k == "--cache-dir") a.cache_dir = val();
+    else if (k == "--densities") a.densities = std::stoi(val());
     else if (k == "-h" || k == "--help") {
       std::printf("see the header of perf/fmm/fmm_bench.cpp\n");
       return 0;
