@@ -14,6 +14,7 @@ SingleLayerOptions bie_options(const Scene& s, int threads) {
   SingleLayerOptions o;
   o.backend = s.fluid.backend;
   o.tolerance = s.fluid.tolerance;
+  o.geometry = s.fluid.geometry;
   o.threads = threads;
   return o;
 }

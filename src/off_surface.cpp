@@ -15,38 +15,38 @@ namespace {
 constexpr double kInv8Pi = 1.0 / (8.0 * M_PI);
 
 struct Element {
-  Vec3 x[3], q[3];
+  QuadraticTriangle T;  // written about vertex 0
+  Vec3 q[3];
 };
 
-// ∫ over the sub-triangle with parent barycentrics (l0, l1, l2) of G(p − y) q(y) dS_y, refined
-// until the sub-triangle is farther than 4 of its diameters from p (or max depth).
-Vec3 adaptive_integral(const Element& el, const Vec3& p, const Eigen::Matrix3d& bary, double parent_area, int depth) {
+// ∫ over the sub-triangle with parent barycentrics `bary` (rows; parameter-plane area
+// param_area) of G(p − y) q(y) dS_y, refined until the sub-triangle is farther than 4 of its
+// diameters from p (or max depth). Distances use the sub-triangle's corners on the surface.
+Vec3 adaptive_integral(const Element& el, const Vec3& p, const Eigen::Matrix3d& bary, double param_area, int depth) {
   Vec3 y[3];
-  for (int v = 0; v < 3; ++v) y[v] = bary(v, 0) * el.x[0] + bary(v, 1) * el.x[1] + bary(v, 2) * el.x[2];
+  for (int v = 0; v < 3; ++v) y[v] = el.T.position(bary(v, 1), bary(v, 2));
   const double diam = std::max({(y[1] - y[0]).norm(), (y[2] - y[1]).norm(), (y[0] - y[2]).norm()});
   const double dist = point_triangle_distance(p, y[0], y[1], y[2]);
-  const double area = 0.5 * (y[1] - y[0]).cross(y[2] - y[0]).norm();
-  if (dist > 4 * diam || depth >= 14 || area < 1e-14 * parent_area) {
+  if (dist > 4 * diam || depth >= 14) {
     Vec3 sum = Vec3::Zero();
     if (dist <= 0) return sum;  // target on the element: no finite quadrature (reported as too close)
     for (const auto& r : kDunavant7) {
       const Eigen::RowVector3d lam = r[0] * bary.row(0) + r[1] * bary.row(1) + r[2] * bary.row(2);
-      const Vec3 yq = lam[0] * el.x[0] + lam[1] * el.x[1] + lam[2] * el.x[2];
       const Vec3 qq = lam[0] * el.q[0] + lam[1] * el.q[1] + lam[2] * el.q[2];
-      sum += r[3] * area * stokeslet_apply(p - yq, qq);
+      sum += (r[3] * param_area * el.T.jacobian(lam[1], lam[2])) * stokeslet_apply(p - el.T.position(lam[1], lam[2]), qq);
     }
     return sum;
   }
   const std::array<Eigen::Matrix3d, 4> c = split_in_four(bary);
   Vec3 sum = Vec3::Zero();
-  for (const auto& sub : c) sum += adaptive_integral(el, p, sub, parent_area, depth + 1);
+  for (const auto& sub : c) sum += adaptive_integral(el, p, sub, param_area / 4, depth + 1);
   return sum;
 }
 
 }  // namespace
 
 void SingleLayer::evaluate_at(const Points& x, const Points& q, const Points& targets, Points& u, OffSurfaceReport* report) {
-  build_sources(x, q);
+  build_sources(x, q);  // also the current surface (vertex normals, edge midpoints)
   const Eigen::Index nt = targets.rows(), m = tri_.rows();
   u.resize(nt, 3);
   far_field(targets.data(), nt, u.data());
@@ -84,19 +84,19 @@ void SingleLayer::evaluate_at(const Points& x, const Points& q, const Points& ta
           for (int e : it->second) {
             if (std::find(seen.begin(), seen.end(), e) != seen.end()) continue;
             seen.push_back(e);
-            Element el;
+            Element el{element(x, e, 0), {}};
+            Vec3 corner[3];
             double h = 0;
             for (int v = 0; v < 3; ++v) {
-              el.x[v] = x.row(tri_(e, v)).transpose();
+              corner[v] = x.row(tri_(e, v)).transpose();
               el.q[v] = q.row(tri_(e, v)).transpose();
             }
-            for (int v = 0; v < 3; ++v) h = std::max(h, (el.x[v] - el.x[(v + 1) % 3]).norm());
-            const double d = point_triangle_distance(p, el.x[0], el.x[1], el.x[2]);
+            for (int v = 0; v < 3; ++v) h = std::max(h, (corner[v] - corner[(v + 1) % 3]).norm());
+            const double d = point_triangle_distance(p, corner[0], corner[1], corner[2]);
             ratio[static_cast<size_t>(t)] = std::min(ratio[static_cast<size_t>(t)], d / h);
             if (d >= OffSurfaceReport::near_ratio * h) continue;
             any = true;
-            const double area = 0.5 * (el.x[1] - el.x[0]).cross(el.x[2] - el.x[0]).norm();
-            corr += adaptive_integral(el, p, Eigen::Matrix3d::Identity(), area, 0);
+            corr += adaptive_integral(el, p, Eigen::Matrix3d::Identity(), 0.5, 0);
             for (int g = 0; g < 3; ++g) {
               const size_t o = static_cast<size_t>(9 * e + 3 * g);
               const Vec3 r = p - Vec3(src_[o], src_[o + 1], src_[o + 2]);

@@ -29,60 +29,106 @@ GaussLegendre::GaussLegendre(int n) : x(static_cast<size_t>(n)), w(static_cast<s
   }
 }
 
-std::array<Mat3, 3> singular_element_integral(const Vec3& x0, const Vec3& x1, const Vec3& x2, const GaussLegendre& rule) {
-  const Vec3 a = x1 - x0, b = x2 - x1;
-  const double area = 0.5 * a.cross(x2 - x0).norm();
-  std::array<Mat3, 3> out{Mat3::Zero(), Mat3::Zero(), Mat3::Zero()};
-  // |e(v)| is smallest at the foot v* of the perpendicular from x0 on the opposite edge; for an
-  // obtuse angle at x0 the integrand 1/|e| is sharply peaked there. Split at v* and substitute
-  // v = v* ± (d/|b|) sinh s, which turns 1/|e| dv into ds/|b| (smooth): accurate for any shape.
-  const double bb = b.squaredNorm(), blen = std::sqrt(bb);
-  const double vstar = std::clamp(-a.dot(b) / bb, 0.0, 1.0);
-  const double d = (a + vstar * b).norm();
-  auto accumulate = [&](double length, double sign) {
-    if (length <= 0) return;
-    const double smax = std::asinh(blen * length / d);
-    for (size_t q = 0; q < rule.x.size(); ++q) {
-      const double s = rule.x[q] * smax, sh = std::sinh(s);
-      const double v = vstar + sign * (d / blen) * sh;
-      const double jac = rule.w[q] * smax * (d / blen) * std::cosh(s);
-      const Vec3 e = a + v * b;
-      const double len = e.norm();
-      const Vec3 eh = e / len;
-      const Mat3 k = (jac * area / len) * (Mat3::Identity() + eh * eh.transpose());
-      out[0] += k;
-      out[1] += (1 - v) * k;
-      out[2] += v * k;
-    }
-  };
-  accumulate(1.0 - vstar, +1.0);
-  accumulate(vstar, -1.0);
-  return out;
+namespace {
+
+// Closed form of the flat singular element (numerics.md §4.1): with e(v) = F1 + v(F2 − F1),
+//   K0 = ∫_0^1 (I/|e| + e eᵀ/|e|³) dv,   K1 = ∫_0^1 v (I/|e| + e eᵀ/|e|³) dv,
+// so that ∫_e G φ_k dS = A·(K0, K0 − K1, K1)_k. Along the edge line, e = d n̂ + t b̂ with d the
+// distance from x0 to the line and t the arclength from the foot; every primitive is then
+// elementary (asinh(t/d), r = √(d² + t²), t/r, d/r) and free of cancellation for sane shapes.
+void flat_singular(const Vec3& F1, const Vec3& F2, Mat3& K0, Mat3& K1) {
+  const Vec3 b = F2 - F1;
+  const double blen = b.norm();
+  const Vec3 bh = b / blen;
+  const double ta = F1.dot(bh), tb = ta + blen;  // t at v = 0 and v = 1
+  const Vec3 foot = F1 - ta * bh;
+  const double d = foot.norm();
+  const Vec3 nh = foot / d;
+  const double ra = std::hypot(d, ta), rb = std::hypot(d, tb);
+  const double P0 = std::asinh(tb / d) - std::asinh(ta / d);  // ∫ dt/r
+  const double P1 = rb - ra;                                 // ∫ t dt/r
+  const double Tnn = tb / rb - ta / ra;                      // ∫ d²/r³ dt
+  const double Tnb = d / ra - d / rb;                        // ∫ d t/r³ dt
+  const double Tbb = P0 - Tnn;                               // ∫ t²/r³ dt
+  const double Mnn = d * d / ra - d * d / rb;                // ∫ t d²/r³ dt
+  const double Mnb = d * Tbb;                                // ∫ t · d t/r³ dt
+  const double Mbb = (rb + d * d / rb) - (ra + d * d / ra);  // ∫ t³/r³ dt
+  const Mat3 Nn = nh * nh.transpose(), Nb = nh * bh.transpose() + bh * nh.transpose(), Bb = bh * bh.transpose();
+  K0 = (P0 * Mat3::Identity() + Tnn * Nn + Tnb * Nb + Tbb * Bb) / blen;
+  // v = (t − ta)/|b|, dv = dt/|b|
+  K1 = ((P1 - ta * P0) * Mat3::Identity() + (Mnn - ta * Tnn) * Nn + (Mnb - ta * Tnb) * Nb + (Mbb - ta * Tbb) * Bb) /
+       (blen * blen);
 }
 
-Vec3 singular_element_apply(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& q0, const Vec3& q1, const Vec3& q2,
-                            const GaussLegendre& rule) {
-  // Same quadrature as singular_element_integral, contracted with the load first.
-  const Vec3 a = x1 - x0, b = x2 - x1;
-  const double area = 0.5 * a.cross(x2 - x0).norm();
+// The curvature correction of a singular element: calls f(w, weight, λ) for the Duffy points of
+// the quadratic triangle and, with the opposite weight, for those of its flat facet at the same
+// v; a point contributes weight · G(w) · φ(λ). See singular_element_integral in the header.
+constexpr size_t kMaxRadialPoints = 16;
+
+template <class F>
+void visit_curvature_correction(const QuadraticTriangle& T, const GaussLegendre& rule_v, const GaussLegendre& rule_u,
+                                F&& f) {
+  const Vec3& a = T.F1;
+  const Vec3 b = T.F2 - T.F1, bc = T.B - T.A;
   const double bb = b.squaredNorm(), blen = std::sqrt(bb);
   const double vstar = std::clamp(-a.dot(b) / bb, 0.0, 1.0);
   const double d = (a + vstar * b).norm();
-  Vec3 sum = Vec3::Zero();
+  const size_t nu = std::min(rule_u.x.size(), kMaxRadialPoints);
   for (const double sign : {1.0, -1.0}) {
     const double length = sign > 0 ? 1.0 - vstar : vstar;
     if (length <= 0) continue;
     const double smax = std::asinh(blen * length / d);
-    for (size_t k = 0; k < rule.x.size(); ++k) {
-      const double ex = std::exp(rule.x[k] * smax), inv = 1.0 / ex;  // one exp for sinh and cosh
+    for (size_t k = 0; k < rule_v.x.size(); ++k) {
+      const double ex = std::exp(rule_v.x[k] * smax), inv = 1.0 / ex;  // one exp for sinh and cosh
       const double v = vstar + sign * (d / blen) * 0.5 * (ex - inv);
-      const Vec3 e = a + v * b;
-      const double len2 = e.squaredNorm();
-      const Vec3 q = q0 + (1 - v) * q1 + v * q2;  // ∫ φ_k du weights (1, 1 − v, v)
-      sum += (rule.w[k] * smax * (d / blen) * 0.5 * (ex + inv) / std::sqrt(len2)) * (q + e * (e.dot(q) / len2));
+      const double wv = rule_v.w[k] * smax * (d / blen) * 0.5 * (ex + inv);
+      const Vec3 a1 = T.A + v * bc, a1_flat = a + v * b;
+      const Vec3 a2 = (1 - v) * (1 - v) * T.C + v * v * T.D + v * (1 - v) * T.E;
+      // Jacobians of all u-points first: independent square roots pipeline instead of stalling
+      // each point (the loop is latency-bound otherwise).
+      double jac[kMaxRadialPoints];
+      for (size_t m = 0; m < nu; ++m) jac[m] = T.jacobian_squared(rule_u.x[m] * (1 - v), rule_u.x[m] * v);
+      for (size_t m = 0; m < nu; ++m) jac[m] = std::sqrt(jac[m]);
+      for (size_t m = 0; m < nu; ++m) {
+        const double u = rule_u.x[m];
+        f(a1 + u * a2, wv * rule_u.w[m] * jac[m], Vec3(1 - u, u * (1 - v), u * v));
+      }
+      // The flat integrand G(a1_flat) J0 φ(λ) is linear in u: its u-integral is the value at u = ½.
+      f(a1_flat, -wv * T.J0, Vec3(0.5, 0.5 * (1 - v), 0.5 * v));
     }
   }
-  return area * sum;
+}
+
+}  // namespace
+
+std::array<Mat3, 3> singular_element_integral(const QuadraticTriangle& T, const GaussLegendre& rule_v,
+                                              const GaussLegendre& rule_u) {
+  Mat3 K0, K1;
+  flat_singular(T.F1, T.F2, K0, K1);
+  const double area = 0.5 * T.J0;
+  std::array<Mat3, 3> out{area * K0, area * (K0 - K1), area * K1};
+  if (T.curved)
+    visit_curvature_correction(T, rule_v, rule_u, [&](const Vec3& w, double weight, const Vec3& lam) {
+      const Mat3 g = weight * stokeslet_matrix(w);
+      for (int k = 0; k < 3; ++k) out[k] += lam[k] * g;
+    });
+  return out;
+}
+
+std::array<Mat3, 3> singular_element_integral(const Vec3& x0, const Vec3& x1, const Vec3& x2) {
+  const GaussLegendre unused(1);
+  return singular_element_integral(QuadraticTriangle::flat(x0, x1, x2), unused, unused);
+}
+
+Vec3 singular_element_apply(StokesletBatch& batch, const QuadraticTriangle& T, const Vec3& q0, const Vec3& q1,
+                            const Vec3& q2, const GaussLegendre& rule_v, const GaussLegendre& rule_u) {
+  Mat3 K0, K1;
+  flat_singular(T.F1, T.F2, K0, K1);
+  if (T.curved)
+    visit_curvature_correction(T, rule_v, rule_u, [&](const Vec3& w, double weight, const Vec3& lam) {
+      batch.push(w, weight * (lam[0] * q0 + lam[1] * q1 + lam[2] * q2));
+    });
+  return (0.5 * T.J0) * (K0 * (q0 + q1) + K1 * (q2 - q1));
 }
 
 namespace {
@@ -105,38 +151,32 @@ std::array<Eigen::Matrix3d, 4> split_in_four(const Eigen::Matrix3d& bary) {
   return c;
 }
 
+
 namespace {
-void refine(const Vec3& p, const Vec3 (&x)[3], const Eigen::Matrix3d& bary, double area, int depth, std::array<Mat3, 3>& out) {
+// bary: the sub-triangle's vertices in parent barycentrics (rows); param_area: its area in (ξ, η).
+void refine(const Vec3& p, const QuadraticTriangle& T, const Eigen::Matrix3d& bary, double param_area, int depth,
+            std::array<Mat3, 3>& out) {
   if (depth == 0) {
     for (const auto& r : kDunavant7) {
       const Eigen::RowVector3d lam = r[0] * bary.row(0) + r[1] * bary.row(1) + r[2] * bary.row(2);
-      const Vec3 y = lam[0] * x[0] + lam[1] * x[1] + lam[2] * x[2];
-      const Mat3 g = (r[3] * area) * stokeslet_matrix(p - y);
+      const Mat3 g = (r[3] * param_area * T.jacobian(lam[1], lam[2])) * stokeslet_matrix(p - T.position(lam[1], lam[2]));
       for (int k = 0; k < 3; ++k) out[k] += lam[k] * g;
     }
     return;
   }
   const std::array<Eigen::Matrix3d, 4> c = split_in_four(bary);
-  for (const auto& sub : c) refine(p, x, sub, area / 4, depth - 1, out);
+  for (const auto& sub : c) refine(p, T, sub, param_area / 4, depth - 1, out);
 }
 }  // namespace
 
-Vec3 near_element_apply(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& q0, const Vec3& q1,
-                        const Vec3& q2) {
-  const double area = 0.5 * (x1 - x0).cross(x2 - x0).norm();
-  Vec3 sum = Vec3::Zero();
-  for (const auto& r : kDunavant7) {
-    const Vec3 y = r[0] * x0 + r[1] * x1 + r[2] * x2;
-    sum += r[3] * stokeslet_apply(p - y, r[0] * q0 + r[1] * q1 + r[2] * q2);
-  }
-  return area * sum;
+std::array<Mat3, 3> refined_element_integral(const Vec3& p, const QuadraticTriangle& T, int depth) {
+  std::array<Mat3, 3> out{Mat3::Zero(), Mat3::Zero(), Mat3::Zero()};
+  refine(p, T, Eigen::Matrix3d::Identity(), 0.5, depth, out);
+  return out;
 }
 
 std::array<Mat3, 3> refined_element_integral(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, int depth) {
-  const Vec3 x[3] = {x0, x1, x2};
-  std::array<Mat3, 3> out{Mat3::Zero(), Mat3::Zero(), Mat3::Zero()};
-  refine(p, x, Eigen::Matrix3d::Identity(), 0.5 * (x1 - x0).cross(x2 - x0).norm(), depth, out);
-  return out;
+  return refined_element_integral(p, QuadraticTriangle::flat(x0, x1, x2), depth);
 }
 
 }  // namespace capsflow

@@ -20,7 +20,7 @@ const std::map<std::string, std::set<std::string>>& schema() {
       {"wall", {"model", "law", "thickness", "poisson", "skalak_c"}},
       {"flow", {"type", "ca_v", "ca_s", "gradient"}},
       {"time", {"dt", "dt_safety", "t_end", "stop_at_steady", "steady_tol"}},
-      {"fluid", {"backend", "tolerance", "volume_correction"}},
+      {"fluid", {"backend", "tolerance", "geometry", "volume_correction"}},
       {"output", {"every", "fields", "checkpoint_every"}},
   };
   return s;
@@ -314,6 +314,8 @@ Scene parse_scene(const std::string& toml_text, const std::string& name, const s
   r.get("fluid", "backend", sc.fluid.backend);
   r.one_of(sc.fluid.backend, {"auto", "fmm", "direct"}, "fluid", "backend");
   r.get("fluid", "tolerance", sc.fluid.tolerance);
+  r.get("fluid", "geometry", sc.fluid.geometry);
+  r.one_of(sc.fluid.geometry, {"flat", "curved"}, "fluid", "geometry");
   r.get("fluid", "volume_correction", sc.fluid.volume_correction);
   // The KIFMM's accuracy floor is ~3e-8 (double-precision pseudo-inverses, perf/fmm/RESULTS.md)
   // and the boundary integral asks it for 0.25 × the tolerance: below 2e-7 it cannot be honoured.
@@ -350,7 +352,7 @@ nlohmann::json to_json(const Scene& s) {
   j["time"] = {{"dt", s.time.dt_auto ? nlohmann::json("auto") : nlohmann::json(s.time.dt)},
                {"dt_safety", s.time.dt_safety}, {"t_end", s.time.t_end},
                {"stop_at_steady", s.time.stop_at_steady}, {"steady_tol", s.time.steady_tol}};
-  j["fluid"] = {{"backend", s.fluid.backend}, {"tolerance", s.fluid.tolerance}, {"volume_correction", s.fluid.volume_correction}};
+  j["fluid"] = {{"backend", s.fluid.backend}, {"tolerance", s.fluid.tolerance}, {"geometry", s.fluid.geometry}, {"volume_correction", s.fluid.volume_correction}};
   j["output"] = {{"every", s.output.every}, {"fields", s.output.fields}, {"checkpoint_every", s.output.checkpoint_every}};
   return j;
 }
@@ -374,8 +376,8 @@ std::string to_toml(const Scene& s) {
   out += fmt::format("\n[time]\ndt = {}\ndt_safety = {}\nt_end = {}\nstop_at_steady = {}\nsteady_tol = {}\n",
                      s.time.dt_auto ? q("auto") : fmt::format("{}", s.time.dt), s.time.dt_safety, s.time.t_end,
                      s.time.stop_at_steady, s.time.steady_tol);
-  out += fmt::format("\n[fluid]\nbackend = {}\ntolerance = {}\nvolume_correction = {}\n", q(s.fluid.backend), s.fluid.tolerance,
-                     s.fluid.volume_correction);
+  out += fmt::format("\n[fluid]\nbackend = {}\ntolerance = {}\ngeometry = {}\nvolume_correction = {}\n", q(s.fluid.backend),
+                     s.fluid.tolerance, q(s.fluid.geometry), s.fluid.volume_correction);
   std::string fields;
   for (const auto& f : s.output.fields) fields += (fields.empty() ? "" : ", ") + q(f);
   out += fmt::format("\n[output]\nevery = {}\nfields = [{}]\ncheckpoint_every = {}\n", s.output.every, fields,

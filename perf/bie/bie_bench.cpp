@@ -1,7 +1,9 @@
-// bie_bench — time and accuracy of one single-layer evaluation on the unit icosphere, per level
-// and back end. Accuracy oracle: a uniform load c gives the rigid velocity 2c/3 (μ = 1, a = 1);
-// the error is max_i |u_i − 2c/3| / |2c/3|. One JSON line per (level, backend, tolerance).
-//   bie_bench --levels 3,4,5,6 --backends direct,fmm --tol 1e-6 --repeat 5 --threads 2
+// bie_bench — time and accuracy of one single-layer evaluation on the unit icosphere, per level,
+// back end and surface geometry. Accuracy oracles (μ = 1, a = 1): a uniform load c gives the
+// rigid velocity 2c/3 (timed case; error max_i |u_i − 2c/3| / |2c/3|); the load ω × n gives the
+// rotation ω × x/3 (error relative to |ω|/3); a uniform normal load gives 0 (relative to 2/3).
+// One JSON line per (level, geometry, backend, tolerance).
+//   bie_bench --levels 3,4,5,6 --backends direct,fmm --geometry flat,curved --tol 1e-6 --repeat 5 --threads 2
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <omp.h>
@@ -21,25 +23,44 @@ int main(int argc, char** argv) {
   std::vector<int> levels{3, 4, 5};
   std::vector<std::string> backends{"direct", "fmm"};
   std::vector<double> tols{1e-6};
-  int repeat = 5, threads = 0;
+  std::vector<std::string> geometries{"flat"};
+  int repeat = 5, threads = 0, ring_depth = 0, ring_layers = 0;
+  const SingleLayerOptions defaults;
+  int nv = defaults.singular_points, nu = defaults.singular_radial_points;
   app.add_option("--levels", levels, "icosahedron levels")->delimiter(',');
   app.add_option("--backends", backends, "direct,fmm")->delimiter(',');
+  app.add_option("--geometry", geometries, "flat,curved")->delimiter(',');
   app.add_option("--tol", tols, "FMM tolerances")->delimiter(',');
+  app.add_option("--near-ring-depth", ring_depth, "near ring: 7-point rule on 4^depth parts (-1: no ring)");
+  app.add_option("--near-ring-layers", ring_layers, "edge hops of the near ring beyond the touching elements (0: auto)");
+  app.add_option("--singular-points", nv, "curvature correction: Gauss points in v per side");
+  app.add_option("--singular-radial-points", nu, "curvature correction: Gauss points in u");
   app.add_option("--repeat", repeat, "timed evaluations (median reported)");
   app.add_option("--threads", threads, "OpenMP threads");
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
-  const Vec3 c(0.3, -1.0, 0.5);
+  const Vec3 c(0.3, -1.0, 0.5), omega(0.2, 0.7, -0.4);
   for (int level : levels) {
     const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, level);
-    Points q(m.num_nodes(), 3);
+    Points q(m.num_nodes(), 3), q_rot(m.num_nodes(), 3), rot(m.num_nodes(), 3);
     q.rowwise() = c.transpose();
+    for (Eigen::Index i = 0; i < m.num_nodes(); ++i) {
+      const Vec3 x = m.vertices.row(i).transpose();
+      q_rot.row(i) = omega.cross(x).transpose();
+      rot.row(i) = (omega.cross(x) / 3.0).transpose();
+    }
+    for (const auto& geometry : geometries)
     for (const auto& b : backends)
       for (double tol : tols) {
         if (b == "direct" && tol != tols.front()) continue;
         SingleLayerOptions o;
         o.backend = b;
         o.tolerance = tol;
+        o.geometry = geometry;
+        o.near_ring_depth = ring_depth;
+        o.near_ring_layers = ring_layers;
+        o.singular_points = nv;
+        o.singular_radial_points = nu;
         const auto t_setup = std::chrono::steady_clock::now();
         SingleLayer S(m.triangles, m.num_nodes(), o);
         const double construct_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_setup).count();
@@ -55,12 +76,17 @@ int main(int argc, char** argv) {
         const SingleLayerTimings after = S.timings();
         std::sort(times.begin(), times.end());
         const double err = (u.rowwise() - (2.0 / 3.0) * c.transpose()).rowwise().norm().maxCoeff() / ((2.0 / 3.0) * c.norm());
+        S.apply(m.vertices, q_rot, u);
+        const double err_rot = (u - rot).rowwise().norm().maxCoeff() / (omega.norm() / 3.0);
+        S.apply(m.vertices, m.vertices, u);  // unit sphere: n = x
+        const double err_nrm = u.rowwise().norm().maxCoeff() / (2.0 / 3.0);
         nlohmann::json j = {{"what", "single_layer"}, {"level", level}, {"elements", m.num_elements()}, {"nodes", m.num_nodes()},
                             {"sources", 3 * m.num_elements()}, {"backend", b}, {"tol", b == "fmm" ? tol : 0.0},
                             {"order", S.fmm_order()}, {"threads", omp_get_max_threads()}, {"eval_s", times[times.size() / 2]},
                             {"min_s", times.front()}, {"max_s", times.back()},
                             {"near_s", (after.near - before.near) / repeat}, {"far_s", (after.far - before.far) / repeat},
-                            {"construct_s", construct_s}, {"error_uniform_load", err}, {"git", git_hash()}};
+                            {"construct_s", construct_s}, {"error_uniform_load", err}, {"geometry", geometry}, {"near_ring_layers", ring_layers}, {"singular_points", nv}, {"singular_radial_points", nu},
+                            {"error_rotation_load", err_rot}, {"error_normal_load", err_nrm}, {"git", git_hash()}};
         fmt::print("{}\n", j.dump());
         std::fflush(stdout);
       }

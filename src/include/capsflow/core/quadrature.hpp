@@ -1,9 +1,12 @@
 #pragma once
-// Quadrature rules on flat P1 triangles for the single-layer Stokeslet (numerics.md §4).
+// Quadrature rules on P1 triangles — flat facets or their quadratic lift (curved_triangle.hpp) —
+// for the single-layer Stokeslet (numerics.md §4).
 // Conventions: G(r) = I/|r| + r rᵀ/|r|³ with r = x − y; the 1/(8πμ) factor is NOT included here.
 #include <array>
 #include <vector>
 
+#include "capsflow/core/curved_triangle.hpp"
+#include "capsflow/core/stokeslet_batch.hpp"
 #include "capsflow/core/types.hpp"
 
 namespace capsflow {
@@ -25,23 +28,31 @@ extern const double kDunavant7[7][4];
 // The 4-to-1 midpoint split of a sub-triangle given by its vertices' parent barycentrics (rows).
 std::array<Eigen::Matrix3d, 4> split_in_four(const Eigen::Matrix3d& bary);
 
-// ∫_e G(x0 − y) φ_k(y) dS_y for k = 0, 1, 2 over the triangle (x0, x1, x2) whose vertex x0 is the
-// (singular) target. Duffy map y = x0 + u e(v), e(v) = (x1 − x0) + v (x2 − x1): the Jacobian u
-// cancels 1/|x0 − y| and the u-integral is analytic (numerics.md §4.1), leaving
-// A ∫_0^1 w_k(v) (I + ê êᵀ)/|e(v)| dv with w = (1, 1 − v, v), integrated by `rule`.
-std::array<Mat3, 3> singular_element_integral(const Vec3& x0, const Vec3& x1, const Vec3& x2, const GaussLegendre& rule);
+// ∫_e G(x0 − y) φ_k(y) dS_y (k = 0, 1, 2) over a quadratic triangle written about its vertex x0,
+// the (singular) target. The flat facet (x0, x1, x2) is integrated in closed form (exact); for a
+// curved triangle the difference curved − flat is added by Duffy quadrature: with
+// (ξ, η) = (u(1 − v), uv), y − x0 = u w(u, v), w = a1(v) + u a2(v), the Jacobian u cancels
+// 1/|x0 − y| and G dS = G(w) J(u, v) du dv is smooth (numerics.md §4.1). `rule_v` integrates v on
+// each side of the foot v* of the perpendicular from x0 on the opposite edge, after
+// v = v* ± (d/|x2 − x1|) sinh s (flattens the peak of 1/|e(v)| at obtuse angles); `rule_u`
+// integrates u. The difference is O(h/R) of the whole and smooth, so small rules suffice.
+std::array<Mat3, 3> singular_element_integral(const QuadraticTriangle& T, const GaussLegendre& rule_v,
+                                              const GaussLegendre& rule_u);
+// Flat-facet form (closed form, no quadrature): the triangle (x0, x1, x2) with x0 the target.
+std::array<Mat3, 3> singular_element_integral(const Vec3& x0, const Vec3& x1, const Vec3& x2);
 
 // ∫_e G(p − y) φ_k(y) dS_y (k = 0, 1, 2) for a target p off the element (near-singular but not
-// singular): the element is split 4^depth times and Dunavant's degree-5 7-point rule is applied
-// on each part.
+// singular): the element is split 4^depth times in (ξ, η) and Dunavant's degree-5 7-point rule
+// is applied on each part.
+std::array<Mat3, 3> refined_element_integral(const Vec3& p, const QuadraticTriangle& T, int depth);
 std::array<Mat3, 3> refined_element_integral(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, int depth);
 
-// Hot-path forms of the two integrals above, applied to a P1 load (q_k at the element's vertices,
-// in the same order as the x_k): Σ_k (∫_e G φ_k dS) q_k, with vector algebra only.
-Vec3 singular_element_apply(const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& q0, const Vec3& q1, const Vec3& q2,
-                            const GaussLegendre& rule);
-Vec3 near_element_apply(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, const Vec3& q0, const Vec3& q1,
-                        const Vec3& q2);  // 7-point rule on the whole element (depth 0)
+// Hot-path forms, applied to a P1 load (q_k at the element's vertices, in the order x0, x1, x2 of
+// T). Singular element: returns the closed-form flat part Σ_k (∫ G φ_k dS) q_k and pushes the
+// curvature-correction points as Stokeslet terms (w, weight · q(y)) into `batch` (none when flat);
+// the caller adds batch.sum(). Same points and weights as the matrix form.
+Vec3 singular_element_apply(StokesletBatch& batch, const QuadraticTriangle& T, const Vec3& q0, const Vec3& q1,
+                            const Vec3& q2, const GaussLegendre& rule_v, const GaussLegendre& rule_u);
 
 // G(r) applied to f: (f + r (r·f)/|r|²)/|r|.
 inline Vec3 stokeslet_apply(const Vec3& r, const Vec3& f) {
