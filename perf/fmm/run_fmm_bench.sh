@@ -29,3 +29,9 @@ for d in sphere spheroid cube clustered; do $F --dist $d --n 1e5 --tol 1e-6 --re
 for tol in 1e-3 1e-6 1e-8; do for n in 4000 8000 16000 32000 64000; do
   $F --dist sphere --n $n --tol $tol --reps 3 --sample 2000 >> "$OUT/crossover.jsonl"
 done; done
+# 6. tight tolerances (the 1e-9 row against PVFMM m = 12 and FMM3D eps 1e-9), sphere, N = 1e5
+: > "$OUT/tight.jsonl"
+for p in 11 12 13; do $F --dist sphere --n 1e5 --order $p --reps 3 >> "$OUT/tight.jsonl"; done
+# 7. several densities per call: one evaluate(f, u, 3) against 3 single calls
+: > "$OUT/multi.jsonl"
+for p in 7 10; do for n in 1e5 1e6; do $F --dist sphere --n $n --order $p --densities 3 --reps 3 >> "$OUT/multi.jsonl"; done; done
