@@ -23,21 +23,22 @@ struct CalibrationRow {
 //   worst:  1.14e-3  1.99e-3  4.4e-5   2.3e-6   7.7e-7   5.9e-8   1.1e-8   3.4e-9   7.3e-10  2.8e-10  7.5e-11
 // (odd p = 5 is worse than p = 4). Before the factored pseudo-inverses, p >= 10 stalled at
 // 1.5e-8–3.7e-8 (perf/fmm/results/order_sweep_before.jsonl).
-// leaf_size: best of {300..800} at N = 1e5 and 1e6 on the sphere for p <= 10; p >= 11: see
-// perf/fmm/RESULTS.md. crossover: N at which setup + one evaluation beats direct_sum (sphere,
-// sources = targets, 2 threads, perf/fmm/RESULTS.md), rounded up; sources != targets use the
-// geometric mean sqrt(n_src·n_trg).
+// leaf_size: best of {300..800} at N = 1e5 and 1e6 on the sphere for p <= 10; p >= 11 reuse
+// 600, NOT tuned. crossover: N at which setup + one evaluation beats direct_sum (sphere,
+// sources = targets, 2 threads, quiet machine, perf/fmm/RESULTS.md: 5.2e3 at p = 6, 8.3e3 at
+// p = 8, 1.2e4 at p = 10), rounded up; p = 11..14 are EXTRAPOLATED (+15–20 % per order, not
+// measured). Sources != targets use the geometric mean sqrt(n_src·n_trg).
 inline constexpr CalibrationRow kCalibration[] = {
     {2e-3, 4, 200, 4000},
-    {1e-4, 6, 300, 5000},
+    {1e-4, 6, 300, 6000},
     {1e-5, 7, 400, 7000},
     {1e-6, 8, 500, 9000},
     {1e-7, 9, 600, 11000},
-    {2e-8, 10, 600, 12000},
-    {4e-9, 11, 600, 14000},
-    {1e-9, 12, 600, 16000},
-    {3e-10, 13, 600, 20000},
-    {0.0, 14, 600, 24000},
+    {2e-8, 10, 600, 13000},
+    {4e-9, 11, 600, 15000},
+    {1e-9, 12, 600, 18000},
+    {3e-10, 13, 600, 21000},
+    {0.0, 14, 600, 25000},
 };
 
 /// Smallest relative L2 error the Stokeslet FMM reaches reliably in double precision (measured:
