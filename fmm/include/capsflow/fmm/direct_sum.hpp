@@ -15,7 +15,9 @@
 
 namespace capsflow::fmm {
 
-template <class Kernel>
+// Newton / Masked as in p2p.hpp: the defaults give full double accuracy and skip coincident pairs;
+// callers that know sources and targets are disjoint and need < 1e-8 may relax them.
+template <class Kernel, int Newton = 2, bool Masked = true>
 void direct_sum(const double* src, std::size_t n_src, const double* density, const double* trg,
                 std::size_t n_trg, double* out, int threads = 0) {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
@@ -46,7 +48,7 @@ void direct_sum(const double* src, std::size_t n_src, const double* density, con
       const std::size_t nj = std::min(sblock, n_src - j0);
       const double* fb[SD];
       for (int k = 0; k < SD; ++k) fb[k] = f[k] + j0;
-      p2p<Kernel>(t.data() + i0, t.data() + n_trg + i0, t.data() + 2 * n_trg + i0, ni,
+      p2p<Kernel, Newton, Masked>(t.data() + i0, t.data() + n_trg + i0, t.data() + 2 * n_trg + i0, ni,
                   s.data() + j0, s.data() + n_src + j0, s.data() + 2 * n_src + j0, fb, nj, ub,
                   Kernel::scale());
     }

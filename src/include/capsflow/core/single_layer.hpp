@@ -90,7 +90,7 @@ class SingleLayer {
   void build_surface(const Points& x);  // vertex normals and edge midpoints of the current surface
   QuadraticTriangle element(const Points& x, Eigen::Index e, int first) const;  // written about vertex `first`
   void build_sources(const Points& x, const Points& q);
-  void far_field(const double* targets, Eigen::Index n_targets, double* out);
+  void far_field(const double* targets, Eigen::Index n_targets, double* out, bool targets_are_nodes);
   void correct_touching_elements(const Points& x, const Points& q, Points& u);
 
   Triangles tri_;
