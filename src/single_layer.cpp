@@ -177,7 +177,7 @@ void SingleLayer::far_field(const double* targets, Eigen::Index n_targets, doubl
   } else if (targets_are_nodes) {
     // Gauss points are interior to the elements, so they never coincide with a node: no r = 0
     // test, and one Newton step after the hardware rsqrt (≤ 6e-9 per pair, ~1e-9 on the sum; far
-    // below the smallest FMM tolerance accepted, 2e-7): 15–20 % faster than full precision.
+    // below the smallest tolerance a scene accepts, 1e-8): 15–20 % faster than full precision.
     fmm::direct_sum<fmm::Stokeslet, 1, false>(src_.data(), n_src, strength_.data(), targets,
                                               static_cast<std::size_t>(n_targets), out, opt_.threads);
   } else {

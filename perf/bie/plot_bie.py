@@ -25,8 +25,9 @@ for key, rs in sorted(series.items()):
     rs.sort(key=lambda r: r["elements"])
     style = "o-" if key.startswith("flat") else "s--"
     for ax, (field, _) in zip(axes, errors):
-        ax.loglog([r[field] for r in rs], [r["eval_s"] for r in rs], style, label=key)
-        for r in rs:
+        ok = [r for r in rs if r.get(field) is not None]  # --uniform-only rows lack the rotation error
+        ax.loglog([r[field] for r in ok], [r["eval_s"] for r in ok], style, label=key)
+        for r in ok:
             ax.annotate(f"L{r['level']}", (r[field], r["eval_s"]), fontsize=7)
     axes[2].loglog([r["elements"] for r in rs], [r["eval_s"] for r in rs], style, label=key)
 for ax, (_, title) in zip(axes, errors):

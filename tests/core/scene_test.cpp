@@ -95,6 +95,8 @@ TEST(SceneErrors, OutOfRange) {
   EXPECT_NE(error_of("[time]\nt_end = 0\n").find("time.t_end"), std::string::npos);
   EXPECT_NE(error_of("[flow]\nca_s = nan\n").find("flow.ca_s: must be finite"), std::string::npos);
   EXPECT_NE(error_of("[fluid]\nbackend = \"gpu\"\n").find("'gpu' is not one of"), std::string::npos);
+  EXPECT_NE(error_of("[fluid]\ngeometry = \"bent\"\n").find("'bent' is not one of"), std::string::npos);
+  EXPECT_NE(error_of("[fluid]\ntolerance = 1e-9\n").find("fluid.tolerance: must be in [1e-8"), std::string::npos);
   EXPECT_NE(error_of("[output]\nfields = [\"stress\"]\n").find("output.fields"), std::string::npos);
 }
 
