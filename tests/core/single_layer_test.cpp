@@ -165,7 +165,9 @@ TEST(SingularIntegral, CurvedElementMatchesAdaptivePolarQuadrature) {
     const double scale = ref[0].norm();
     for (int k = 0; k < 3; ++k) {
       EXPECT_LT((duffy[k] - ref[k]).norm(), tol_production[i / 3] * scale) << "element " << i << " hat " << k;
-      if (i < 9) EXPECT_LT((tight[k] - ref[k]).norm(), 1e-10 * scale) << "element " << i << " hat " << k;
+      if (i < 9) {  // sphere patches up to 0.33
+        EXPECT_LT((tight[k] - ref[k]).norm(), 1e-10 * scale) << "element " << i << " hat " << k;
+      }
     }
     const Vec3 q0(0.3, -1, 2), q1(1, 0.5, -0.2), q2(-0.7, 0.1, 0.4);
     StokesletBatch batch;
