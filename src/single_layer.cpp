@@ -10,6 +10,7 @@
 
 #include "capsflow/fmm/calibration.hpp"
 #include "capsflow/fmm/direct_sum.hpp"
+#include "capsflow/fmm/direct_sum_mixed.hpp"
 #include "capsflow/fmm/fmm.hpp"
 #include "capsflow/fmm/stokeslet.hpp"
 
@@ -21,6 +22,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 constexpr double kInv8Pi = 1.0 / (8.0 * M_PI);
 constexpr double kFmmToleranceMargin = 0.25;
+constexpr double kMixedPrecisionTolerance = 1e-5;
 }  // namespace
 
 const char* to_string(FarFieldBackend b) { return b == FarFieldBackend::Fmm ? "fmm" : "direct"; }
@@ -55,6 +57,11 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   if (opt.geometry != "flat" && opt.geometry != "curved")
     throw std::invalid_argument("unknown boundary-integral geometry '" + opt.geometry + "' (flat or curved)");
   backend_ = choose_backend(opt.backend, tri_.rows(), n_nodes, opt.tolerance, &reason_);
+  // Single-precision pairs (max relative error ~5e-7, fmm/direct_sum_mixed.hpp) whenever the
+  // tolerance leaves a 20x margin; "direct" at tighter tolerances stays in double.
+  mixed_precision_ =
+      fmm::kMixedPrecisionDirectSum && backend_ == FarFieldBackend::Direct && opt.tolerance >= kMixedPrecisionTolerance;
+  if (mixed_precision_) reason_ += fmt::format("; pairs in single precision, sums in double (tolerance >= {:g})", kMixedPrecisionTolerance);
   if (backend_ == FarFieldBackend::Fmm) {
     fmm::FmmOptions fo;
     // The FMM calibration is in relative L2 error over targets; capsflow promises the tolerance
@@ -174,6 +181,9 @@ void SingleLayer::far_field(const double* targets, Eigen::Index n_targets, doubl
   if (backend_ == FarFieldBackend::Fmm) {
     fmm_->setup(src_.data(), n_src, targets, static_cast<std::size_t>(n_targets));
     fmm_->evaluate(strength_.data(), out);
+  } else if (targets_are_nodes && mixed_precision_) {
+    fmm::stokeslet_direct_sum_mixed(src_.data(), n_src, strength_.data(), targets, static_cast<std::size_t>(n_targets), out,
+                                    opt_.threads);
   } else if (targets_are_nodes) {
     // Gauss points are interior to the elements, so they never coincide with a node: no r = 0
     // test, and one Newton step after the hardware rsqrt (≤ 6e-9 per pair, ~1e-9 on the sum; far

@@ -10,6 +10,7 @@
 #include "capsflow/core/geometry.hpp"
 #include "capsflow/core/mesh_generation.hpp"
 #include "capsflow/core/single_layer.hpp"
+#include "capsflow/fmm/direct_sum_mixed.hpp"
 
 using namespace capsflow;
 
@@ -349,6 +350,19 @@ TEST(SingleLayerBackends, FmmAgreesWithDirectOnDeformedSurface) {
     const double rel = max_row_norm(uf - ud) / max_row_norm(ud);
     EXPECT_LT(rel, tol) << "FMM order " << F.fmm_order();  // issue: agree to the requested tolerance relative to max |v|
   }
+  // From tolerance 1e-5 the direct back end sums single-precision pairs: it must honour the
+  // tolerance as well (against the double-precision direct sum at the default 1e-6).
+  SingleLayerOptions od, om;
+  od.backend = om.backend = "direct";
+  om.tolerance = 1e-5;
+  SingleLayer D(m.triangles, m.num_nodes(), od), M(m.triangles, m.num_nodes(), om);
+  EXPECT_EQ(D.backend_reason().find("single precision"), std::string::npos);
+  if (fmm::kMixedPrecisionDirectSum) EXPECT_NE(M.backend_reason().find("single precision"), std::string::npos);
+  Points ud, um;
+  D.apply(m.vertices, q, ud);
+  M.apply(m.vertices, q, um);
+  const double rel = max_row_norm(um - ud) / max_row_norm(ud);
+  EXPECT_LT(rel, 1e-5);
 }
 
 TEST(SingleLayerBackends, AutoReportsChoice) {

@@ -52,7 +52,7 @@ struct TimeSpec {
 
 struct FluidSpec {
   std::string backend = "auto";  // auto | fmm | direct
-  double tolerance = 1e-6;       // FMM relative accuracy
+  double tolerance = 1e-6;       // far-field relative accuracy (FMM order; direct: single-precision pairs from 1e-5)
   std::string geometry = "flat"; // flat | curved: surface seen by the boundary integral (single_layer.hpp)
   bool volume_correction = true; // remove the mean normal velocity (discrete flux error) each stage
 };

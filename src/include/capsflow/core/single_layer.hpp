@@ -34,7 +34,8 @@ const char* to_string(FarFieldBackend b);
 
 struct SingleLayerOptions {
   std::string backend = "auto";  // auto | fmm | direct
-  double tolerance = 1e-6;       // FMM relative accuracy (ignored by direct)
+  double tolerance = 1e-6;       // far-field relative accuracy: the FMM order; direct sums use
+                                 // single-precision pairs (~5e-7) from 1e-5 on, double below
   std::string geometry = "flat";  // flat | curved (see above)
   // Touching elements: the flat facet is integrated in closed form; a curved element adds its
   // curvature correction by Duffy quadrature with these Gauss–Legendre points (quadrature.hpp).
@@ -99,6 +100,7 @@ class SingleLayer {
   FarFieldBackend backend_;
   std::string reason_;
   bool curved_;
+  bool mixed_precision_ = false;  // direct far field with single-precision pairs (tolerance >= 1e-5)
   GaussLegendre rule_, rule_u_;
   Points normals_;                                 // vertex normals (curved only)
   std::vector<Vec3> mid_;                          // edge midpoints: mid_[3e + k] on edge (k, k+1)
