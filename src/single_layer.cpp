@@ -25,6 +25,12 @@ constexpr double kFmmToleranceMargin = 0.25;
 constexpr double kMixedPrecisionTolerance = 1e-5;
 }  // namespace
 
+bool uses_mixed_precision(FarFieldBackend b, double tolerance) {
+  // Single-precision pairs (max relative error ~5e-7, fmm/direct_sum_mixed.hpp) whenever the
+  // tolerance leaves a 20x margin; "direct" at tighter tolerances stays in double.
+  return fmm::kMixedPrecisionDirectSum && b == FarFieldBackend::Direct && tolerance >= kMixedPrecisionTolerance;
+}
+
 const char* to_string(FarFieldBackend b) { return b == FarFieldBackend::Fmm ? "fmm" : "direct"; }
 
 FarFieldBackend choose_backend(const std::string& requested, Eigen::Index n_elements, Eigen::Index n_nodes,
@@ -43,6 +49,8 @@ FarFieldBackend choose_backend(const std::string& requested, Eigen::Index n_elem
   } else {
     throw std::invalid_argument("unknown boundary-integral back end '" + requested + "' (auto, fmm or direct)");
   }
+  if (b == FarFieldBackend::Direct && uses_mixed_precision(b, tolerance))
+    why += fmt::format("; pairs in single precision, sums in double (tolerance >= {:g})", kMixedPrecisionTolerance);
   if (reason) *reason = why;
   return b;
 }
@@ -57,11 +65,7 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   if (opt.geometry != "flat" && opt.geometry != "curved")
     throw std::invalid_argument("unknown boundary-integral geometry '" + opt.geometry + "' (flat or curved)");
   backend_ = choose_backend(opt.backend, tri_.rows(), n_nodes, opt.tolerance, &reason_);
-  // Single-precision pairs (max relative error ~5e-7, fmm/direct_sum_mixed.hpp) whenever the
-  // tolerance leaves a 20x margin; "direct" at tighter tolerances stays in double.
-  mixed_precision_ =
-      fmm::kMixedPrecisionDirectSum && backend_ == FarFieldBackend::Direct && opt.tolerance >= kMixedPrecisionTolerance;
-  if (mixed_precision_) reason_ += fmt::format("; pairs in single precision, sums in double (tolerance >= {:g})", kMixedPrecisionTolerance);
+  mixed_precision_ = uses_mixed_precision(backend_, opt.tolerance);
   if (backend_ == FarFieldBackend::Fmm) {
     fmm::FmmOptions fo;
     // The FMM calibration is in relative L2 error over targets; capsflow promises the tolerance

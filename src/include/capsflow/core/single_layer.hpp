@@ -65,6 +65,9 @@ struct OffSurfaceReport {
   static constexpr double near_ratio = 2.0, min_ratio = 1e-3;
 };
 
+// True when the direct far field sums single-precision pairs (tolerance >= 1e-5, AVX-512 builds).
+bool uses_mixed_precision(FarFieldBackend b, double tolerance);
+
 // The back end for a mesh of n_elements (3 Gauss-point sources each) and n_nodes targets: the
 // scene's choice, or for "auto" the measured crossover; `reason` says why.
 FarFieldBackend choose_backend(const std::string& requested, Eigen::Index n_elements, Eigen::Index n_nodes,
