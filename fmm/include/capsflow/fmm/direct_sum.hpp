@@ -23,8 +23,13 @@ void direct_sum(const double* src, std::size_t n_src, const double* density, con
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   std::fill(out, out + n_trg * TD, 0.0);
   if (n_src == 0 || n_trg == 0) return;
-  // structure-of-arrays copies
-  std::vector<double> s(n_src * (3 + SD)), t(n_trg * (3 + TD), 0.0);
+  // Structure-of-arrays copies in scratch reused across calls (per calling thread: no allocation
+  // once the sizes are reached). The parallel region below sees them only through pointers.
+  static thread_local std::vector<double> s_buf, t_buf;
+  s_buf.resize(n_src * (3 + SD));
+  t_buf.assign(n_trg * (3 + TD), 0.0);
+  double* const s = s_buf.data();
+  double* const t = t_buf.data();
   for (std::size_t j = 0; j < n_src; ++j) {
     for (int d = 0; d < 3; ++d) s[d * n_src + j] = src[3 * j + d];
     for (int k = 0; k < SD; ++k) s[(3 + k) * n_src + j] = density[SD * j + k];
@@ -32,9 +37,9 @@ void direct_sum(const double* src, std::size_t n_src, const double* density, con
   for (std::size_t i = 0; i < n_trg; ++i)
     for (int d = 0; d < 3; ++d) t[d * n_trg + i] = trg[3 * i + d];
   const double* f[SD];
-  for (int k = 0; k < SD; ++k) f[k] = s.data() + (3 + k) * n_src;
+  for (int k = 0; k < SD; ++k) f[k] = s + (3 + k) * n_src;
   double* u[TD];
-  for (int k = 0; k < TD; ++k) u[k] = t.data() + (3 + k) * n_trg;
+  for (int k = 0; k < TD; ++k) u[k] = t + (3 + k) * n_trg;
   constexpr std::size_t tblock = 128, sblock = 4096;
   const long nblocks = static_cast<long>((n_trg + tblock - 1) / tblock);
   const int nt = threads > 0 ? threads : omp_get_max_threads();
@@ -48,9 +53,8 @@ void direct_sum(const double* src, std::size_t n_src, const double* density, con
       const std::size_t nj = std::min(sblock, n_src - j0);
       const double* fb[SD];
       for (int k = 0; k < SD; ++k) fb[k] = f[k] + j0;
-      p2p<Kernel, Newton, Masked>(t.data() + i0, t.data() + n_trg + i0, t.data() + 2 * n_trg + i0, ni,
-                  s.data() + j0, s.data() + n_src + j0, s.data() + 2 * n_src + j0, fb, nj, ub,
-                  Kernel::scale());
+      p2p<Kernel, Newton, Masked>(t + i0, t + n_trg + i0, t + 2 * n_trg + i0, ni, s + j0, s + n_src + j0,
+                                  s + 2 * n_src + j0, fb, nj, ub, Kernel::scale());
     }
   }
   for (std::size_t i = 0; i < n_trg; ++i)

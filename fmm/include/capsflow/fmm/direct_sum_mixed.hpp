@@ -48,8 +48,11 @@ inline void stokeslet_direct_sum_mixed(const double* src, std::size_t n_src, con
   // Sources: coordinates in double (shifted per block), densities in float; structure of arrays,
   // padded to a multiple of 8 for the vectorised shift.
   const std::size_t ns8 = (n_src + 7) / 8 * 8;
-  std::vector<double> sx(ns8, 0.0), sy(ns8, 0.0), sz(ns8, 0.0);
-  std::vector<float> fx(n_src), fy(n_src), fz(n_src);
+  // Scratch reused across calls (per thread): no allocation once the sizes are reached.
+  static thread_local std::vector<double> sx, sy, sz;
+  static thread_local std::vector<float> fx, fy, fz;
+  sx.assign(ns8, 0.0), sy.assign(ns8, 0.0), sz.assign(ns8, 0.0);
+  fx.resize(n_src), fy.resize(n_src), fz.resize(n_src);
   for (std::size_t j = 0; j < n_src; ++j) {
     sx[j] = src[3 * j], sy[j] = src[3 * j + 1], sz[j] = src[3 * j + 2];
     fx[j] = static_cast<float>(density[3 * j]), fy[j] = static_cast<float>(density[3 * j + 1]);
@@ -57,11 +60,13 @@ inline void stokeslet_direct_sum_mixed(const double* src, std::size_t n_src, con
   }
   const long nblocks = static_cast<long>((n_trg + kBlock - 1) / kBlock);
   const int nt = threads > 0 ? threads : omp_get_max_threads();
+  const double *src_x = sx.data(), *src_y = sy.data(), *src_z = sz.data();  // the caller's thread_local
+  const float *den_x = fx.data(), *den_y = fy.data(), *den_z = fz.data();
 #pragma omp parallel num_threads(nt)
   {
-    std::vector<float> ph[3], pl[3];  // sources relative to the block's origin: hi and lo parts
+    static thread_local std::vector<float> ph[3], pl[3];  // sources relative to the block origin: hi, lo
     for (int d = 0; d < 3; ++d) ph[d].resize(ns8), pl[d].resize(ns8);
-    const double* sc[3] = {sx.data(), sy.data(), sz.data()};
+    const double* sc[3] = {src_x, src_y, src_z};
 #pragma omp for schedule(dynamic, 1)
     for (long b = 0; b < nblocks; ++b) {
       const std::size_t i0 = static_cast<std::size_t>(b) * kBlock, ni = std::min(kBlock, n_trg - i0);
@@ -98,7 +103,7 @@ inline void stokeslet_direct_sum_mixed(const double* src, std::size_t n_src, con
         for (std::size_t j = j0; j < j1; ++j) {
           const __m512 shx = _mm512_set1_ps(ph[0][j]), shy = _mm512_set1_ps(ph[1][j]), shz = _mm512_set1_ps(ph[2][j]);
           const __m512 slx = _mm512_set1_ps(pl[0][j]), sly = _mm512_set1_ps(pl[1][j]), slz = _mm512_set1_ps(pl[2][j]);
-          const __m512 gx = _mm512_set1_ps(fx[j]), gy = _mm512_set1_ps(fy[j]), gz = _mm512_set1_ps(fz[j]);
+          const __m512 gx = _mm512_set1_ps(den_x[j]), gy = _mm512_set1_ps(den_y[j]), gz = _mm512_set1_ps(den_z[j]);
           for (int v = 0; v < kVec; ++v) {
             const __m512 rx = _mm512_add_ps(_mm512_sub_ps(TH[v][0], shx), _mm512_sub_ps(TL[v][0], slx));
             const __m512 ry = _mm512_add_ps(_mm512_sub_ps(TH[v][1], shy), _mm512_sub_ps(TL[v][1], sly));
