@@ -127,7 +127,7 @@ int SingleLayer::fmm_order() const { return fmm_ ? fmm_->order() : 0; }
 
 void SingleLayer::build_surface(const Points& x) {
   if (!curved_) return;  // flat facets need no midpoints (element() builds them)
-  normals_ = vertex_normals_max(x, tri_);
+  vertex_normals_max(x, tri_, normals_);
   const Eigen::Index m = tri_.rows();
 #pragma omp parallel for schedule(static)
   for (Eigen::Index e = 0; e < m; ++e)
