@@ -2,12 +2,6 @@
 
 namespace capsflow {
 
-Points vertex_normals_max(const Points& x, const Triangles& t) {
-  Points n;
-  vertex_normals_max(x, t, n);
-  return n;
-}
-
 void vertex_normals_max(const Points& x, const Triangles& t, Points& n) {
   n.setZero(x.rows(), 3);  // no reallocation when n already has the size
   for (Eigen::Index e = 0; e < t.rows(); ++e)

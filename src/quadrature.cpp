@@ -73,7 +73,8 @@ void visit_curvature_correction(const QuadraticTriangle& T, const GaussLegendre&
   const double bb = b.squaredNorm(), blen = std::sqrt(bb);
   const double vstar = std::clamp(-a.dot(b) / bb, 0.0, 1.0);
   const double d = (a + vstar * b).norm();
-  const size_t nu = std::min(rule_u.x.size(), kMaxRadialPoints);
+  const size_t nu = rule_u.x.size();
+  if (nu > kMaxRadialPoints) throw std::invalid_argument("curvature correction: at most 16 Gauss points in u");
   for (const double sign : {1.0, -1.0}) {
     const double length = sign > 0 ? 1.0 - vstar : vstar;
     if (length <= 0) continue;

@@ -64,6 +64,8 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
       rule_u_(curved_ ? opt.singular_radial_points : 1) {
   if (opt.geometry != "flat" && opt.geometry != "curved")
     throw std::invalid_argument("unknown boundary-integral geometry '" + opt.geometry + "' (flat or curved)");
+  if (opt.singular_radial_points > 16)
+    throw std::invalid_argument("singular_radial_points: at most 16 Gauss points in u");
   backend_ = choose_backend(opt.backend, tri_.rows(), n_nodes, opt.tolerance, &reason_);
   mixed_precision_ = uses_mixed_precision(backend_, opt.tolerance);
   if (backend_ == FarFieldBackend::Fmm) {
@@ -227,14 +229,13 @@ void SingleLayer::correct_touching_elements(const Points& x, const Points& q, Po
       }
       for (int s = ring_start_[i]; s < ring_start_[i + 1]; ++s) {
         const int e = ring_[static_cast<size_t>(s)];
-        const Vec3 qa = q.row(tri_(e, 0)).transpose(), qb = q.row(tri_(e, 1)).transpose(), qc = q.row(tri_(e, 2)).transpose();
         if (opt_.near_ring_depth == 0) {
           const double* y = &ring_src_[static_cast<size_t>(21 * e)];
           const double* f = &ring_strength_[static_cast<size_t>(21 * e)];
           for (int k = 0; k < 7; ++k, y += 3, f += 3) batch.push(xi[0] - y[0], xi[1] - y[1], xi[2] - y[2], f[0], f[1], f[2]);
         } else {
           const auto S = refined_element_integral(xi, element(x, e, 0), opt_.near_ring_depth);
-          local += S[0] * qa + S[1] * qb + S[2] * qc;
+          for (int k = 0; k < 3; ++k) local += S[k] * q.row(tri_(e, k)).transpose();
         }
         subtract_far_field(xi, e);
       }

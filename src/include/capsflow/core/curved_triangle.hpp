@@ -18,8 +18,8 @@ namespace capsflow {
 
 // Vertex normals with Max's (1999) weights, n_i ∝ Σ_faces (e1 × e2)/(|e1|²|e2|²): exact for
 // vertices on a sphere, O(h²) on smooth surfaces for any triangulation.
-Points vertex_normals_max(const Points& x, const Triangles& t);
-void vertex_normals_max(const Points& x, const Triangles& t, Points& n);  // into n (reused storage)
+// Written into n (storage reused when n already has the size).
+void vertex_normals_max(const Points& x, const Triangles& t, Points& n);
 
 // The lifted midpoint of edge (a, b) described above.
 inline Vec3 hermite_edge_midpoint(const Vec3& xa, const Vec3& xb, const Vec3& na, const Vec3& nb) {
