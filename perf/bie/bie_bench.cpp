@@ -13,9 +13,9 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "capsflow/core/mesh_generation.hpp"
-#include "capsflow/core/single_layer.hpp"
-#include "capsflow/core/version.hpp"
+#include "capsflow/core/mesh/generation.hpp"
+#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/io/version.hpp"
 
 using namespace capsflow;
 
@@ -57,9 +57,9 @@ int main(int argc, char** argv) {
       for (double tol : tols) {
         if (b == "direct" && tol != tols.front()) continue;
         SingleLayerOptions o;
-        o.backend = b;
+        o.backend = from_string<BackendRequest>(b).value();
         o.tolerance = tol;
-        o.geometry = geometry;
+        o.geometry = from_string<SurfaceGeometry>(geometry).value();
         o.near_ring_depth = ring_depth;
         o.near_ring_layers = ring_layers;
         o.singular_points = nv;
@@ -70,13 +70,13 @@ int main(int argc, char** argv) {
         Points u;
         if (b == "fmm") S.apply(m.vertices, q, u);  // warm-up (FMM operator cache, first touch)
         std::vector<double> times;
-        SingleLayerTimings before = S.timings();
+        const PhaseTimes before = S.times();
         for (int r = 0; r < repeat; ++r) {
           const auto t0 = std::chrono::steady_clock::now();
           S.apply(m.vertices, q, u);
           times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
-        const SingleLayerTimings after = S.timings();
+        const PhaseTimes after = S.times();
         std::sort(times.begin(), times.end());
         const double err = (u.rowwise() - (2.0 / 3.0) * c.transpose()).rowwise().norm().maxCoeff() / ((2.0 / 3.0) * c.norm());
         double err_rot = NAN, err_nrm = NAN;
@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
                             {"sources", 3 * m.num_elements()}, {"backend", b}, {"tol", b == "fmm" ? tol : 0.0},
                             {"order", S.fmm_order()}, {"threads", omp_get_max_threads()}, {"eval_s", times[times.size() / 2]},
                             {"min_s", times.front()}, {"max_s", times.back()},
-                            {"near_s", (after.near - before.near) / repeat}, {"far_s", (after.far - before.far) / repeat},
+                            {"near_s", (after[Phase::BieNear] - before[Phase::BieNear]) / repeat}, {"far_s", (after[Phase::BieFar] - before[Phase::BieFar]) / repeat},
                             {"construct_s", construct_s}, {"error_uniform_load", err}, {"geometry", geometry}, {"near_ring_layers", ring_layers}, {"singular_points", nv}, {"singular_radial_points", nu},
                             {"error_rotation_load", err_rot}, {"error_normal_load", err_nrm}, {"git", git_hash()}};
         fmt::print("{}\n", j.dump());

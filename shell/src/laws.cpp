@@ -56,7 +56,9 @@ double MembraneLaw::nu_s() const {
   }
 }
 
-const char* MembraneLaw::name() const {
+const char* MembraneLaw::name() const { return to_string(kind); }
+
+const char* to_string(LawKind kind) {
   switch (kind) {
     case LawKind::GeneralizedHooke: return "gh";
     case LawKind::NeoHookean: return "nh";
@@ -65,27 +67,41 @@ const char* MembraneLaw::name() const {
   }
 }
 
-MembraneLaw make_law(const std::string& name, double Gs, double nu_s, double skalak_c) {
+std::optional<LawKind> law_from_name(const std::string& name) {
+  if (name == "gh") return LawKind::GeneralizedHooke;
+  if (name == "nh") return LawKind::NeoHookean;
+  if (name == "mr") return LawKind::MooneyRivlin;
+  if (name == "skalak" || name == "sk") return LawKind::Skalak;
+  return std::nullopt;
+}
+
+MembraneLaw make_law(LawKind kind, double Gs, double nu_s, double skalak_c) {
   MembraneLaw law;
   law.Gs_ = Gs;
-  if (name == "gh") {
-    if (!(nu_s < 1.0 && nu_s > -1.0)) throw std::invalid_argument("make_law: gh needs -1 < nu_s < 1");
-    law.kind = LawKind::GeneralizedHooke;
-    law.nu_ = nu_s;
-  } else if (name == "nh") {
-    law.kind = LawKind::NeoHookean;
-    law.nu_ = 0.5;
-  } else if (name == "mr") {
-    if (!(skalak_c >= 0.0 && skalak_c <= 1.0)) throw std::invalid_argument("make_law: mr needs 0 <= Psi <= 1");
-    law.kind = LawKind::MooneyRivlin;
-    law.C = skalak_c;
-  } else if (name == "skalak" || name == "sk") {
-    law.kind = LawKind::Skalak;
-    law.C = skalak_c;
-  } else {
-    throw std::invalid_argument("make_law: unknown membrane law '" + name + "' (gh | nh | skalak | mr)");
+  law.kind = kind;
+  switch (kind) {
+    case LawKind::GeneralizedHooke:
+      if (!(nu_s < 1.0 && nu_s > -1.0)) throw std::invalid_argument("make_law: gh needs -1 < nu_s < 1");
+      law.nu_ = nu_s;
+      break;
+    case LawKind::NeoHookean:
+      law.nu_ = 0.5;
+      break;
+    case LawKind::MooneyRivlin:
+      if (!(skalak_c >= 0.0 && skalak_c <= 1.0)) throw std::invalid_argument("make_law: mr needs 0 <= Psi <= 1");
+      law.C = skalak_c;
+      break;
+    case LawKind::Skalak:
+      law.C = skalak_c;
+      break;
   }
   return law;
+}
+
+MembraneLaw make_law(const std::string& name, double Gs, double nu_s, double skalak_c) {
+  const std::optional<LawKind> kind = law_from_name(name);
+  if (!kind) throw std::invalid_argument("make_law: unknown membrane law '" + name + "' (gh | nh | skalak | mr)");
+  return make_law(*kind, Gs, nu_s, skalak_c);
 }
 
 }  // namespace capsflow::shell

@@ -19,7 +19,6 @@ LoadRecovery::LoadRecovery(const Triangles& tri, Eigen::Index n_nodes) : topo_(t
   M_.makeCompressed();
   area_.resize(topo_.n_elems);
   lumped_.resize(n);
-  bbpart_.resize(3 * ((n + 511) / 512));
 }
 
 const SpMatR& LoadRecovery::assemble(const Points& x) {
@@ -61,129 +60,14 @@ int LoadRecovery::solve(const Points& x, const Points& R, Points& q, double tol)
   const long n = topo_.n_nodes;
   const bool warm = warm_start_ && q.rows() == n;
   if (q.rows() != n) q.resize(n, 3);
-  r_.resize(3 * n); z_.resize(3 * n); p_.resize(3 * n); Ap_.resize(3 * n);
-  const int* outer = M_.outerIndexPtr();
-  const int* inner = M_.innerIndexPtr();
-  const double* val = M_.valuePtr();
-  // 3 interleaved CGs (one per component) sharing each pass over the matrix; all vectors are
-  // row-major N x 3. Each pass runs over fixed chunks of rows and stores per-chunk partial sums,
-  // added serially afterwards: deterministic for any thread count.
-  double* X = q.data();
-  const double* B = R.data();
-  double* r = r_.data(); double* z = z_.data(); double* p = p_.data(); double* Ap = Ap_.data();
-  constexpr long C = 512;
-  const long nc = (n + C - 1) / C;
-  if (static_cast<long>(partial_.size()) < 6 * nc) partial_.resize(6 * nc);
-  double* part = partial_.data();
-  auto reduce = [&](int k, double out[]) {
-    for (int c = 0; c < k; ++c) out[c] = 0;
-    for (long b = 0; b < nc; ++b)
-      for (int c = 0; c < k; ++c) out[c] += part[6 * b + c];
-  };
-  auto row_mv = [&](const double* in, long i, double s[3]) {
-    s[0] = s[1] = s[2] = 0;
-    for (int k = outer[i]; k < outer[i + 1]; ++k) {
-      const double m = val[k];
-      const double* u = in + 3L * inner[k];
-      s[0] += m * u[0]; s[1] += m * u[1]; s[2] += m * u[2];
-    }
-  };
-  const bool par = n > 2048;
-  // r = B - M X0 (X0: the incoming q if warm-started, else the lumped solution); z = D^-1 r; p = z
+  // Initial guess: the incoming q if warm-started, else the lumped solution (q_i = R_i / m_i).
   if (!warm) {
-#pragma omp parallel for schedule(static) if (par)
-    for (long i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) X[3 * i + c] = B[3 * i + c] / lumped_[i];
+#pragma omp parallel for schedule(static) if (n > 2048)
+    for (long i = 0; i < n; ++i) q.row(i) = R.row(i) / lumped_[i];
   }
-#pragma omp parallel for schedule(static) if (par)
-  for (long b = 0; b < nc; ++b) {
-    double rz[3] = {0, 0, 0}, rr[3] = {0, 0, 0}, bb[3] = {0, 0, 0};
-    const long e = std::min(n, (b + 1) * C);
-    for (long i = b * C; i < e; ++i) {
-      double s[3];
-      row_mv(X, i, s);
-      const double inv = 1.0 / val[outer[i] + topo_.diag_pos[i]];
-      for (int c = 0; c < 3; ++c) {
-        const long k = 3 * i + c;
-        r[k] = B[k] - s[c];
-        z[k] = r[k] * inv;
-        p[k] = z[k];
-        rz[c] += r[k] * z[k];
-        rr[c] += r[k] * r[k];
-        bb[c] += B[k] * B[k];
-      }
-    }
-    for (int c = 0; c < 3; ++c) {
-      part[6 * b + c] = rz[c];
-      part[6 * b + 3 + c] = rr[c];
-    }
-    bbpart_[b * 3] = bb[0]; bbpart_[b * 3 + 1] = bb[1]; bbpart_[b * 3 + 2] = bb[2];
-  }
-  double rz[3], tmp[6];
-  reduce(6, tmp);
-  for (int c = 0; c < 3; ++c) rz[c] = tmp[c];
-  double rn2 = tmp[3] + tmp[4] + tmp[5], bn2 = 0;
-  for (long b = 0; b < 3 * nc; ++b) bn2 += bbpart_[b];
-  const double bnorm = std::sqrt(bn2);
-  relres_ = 0;
-  if (bnorm == 0) {
-    q.setZero();
-    return 0;
-  }
-  int it = 0;
-  while (std::sqrt(rn2) > tol * bnorm && it < 500) {
-    // Ap = M p, partial p.Ap
-#pragma omp parallel for schedule(static) if (par)
-    for (long b = 0; b < nc; ++b) {
-      double pap[3] = {0, 0, 0};
-      const long e = std::min(n, (b + 1) * C);
-      for (long i = b * C; i < e; ++i) {
-        double s[3];
-        row_mv(p, i, s);
-        for (int c = 0; c < 3; ++c) {
-          Ap[3 * i + c] = s[c];
-          pap[c] += p[3 * i + c] * s[c];
-        }
-      }
-      for (int c = 0; c < 3; ++c) part[6 * b + c] = pap[c];
-    }
-    double pAp[3], alpha[3];
-    reduce(3, pAp);
-    for (int c = 0; c < 3; ++c) alpha[c] = pAp[c] > 0 ? rz[c] / pAp[c] : 0.0;
-    // x += alpha p, r -= alpha Ap, z = D^-1 r, partials r.z and r.r
-#pragma omp parallel for schedule(static) if (par)
-    for (long b = 0; b < nc; ++b) {
-      double rzp[3] = {0, 0, 0}, rrp[3] = {0, 0, 0};
-      const long e = std::min(n, (b + 1) * C);
-      for (long i = b * C; i < e; ++i) {
-        const double inv = 1.0 / val[outer[i] + topo_.diag_pos[i]];
-        for (int c = 0; c < 3; ++c) {
-          const long k = 3 * i + c;
-          X[k] += alpha[c] * p[k];
-          r[k] -= alpha[c] * Ap[k];
-          z[k] = r[k] * inv;
-          rzp[c] += r[k] * z[k];
-          rrp[c] += r[k] * r[k];
-        }
-      }
-      for (int c = 0; c < 3; ++c) {
-        part[6 * b + c] = rzp[c];
-        part[6 * b + 3 + c] = rrp[c];
-      }
-    }
-    ++it;
-    reduce(6, tmp);
-    rn2 = tmp[3] + tmp[4] + tmp[5];
-    if (std::sqrt(rn2) <= tol * bnorm) break;
-    double beta[3];
-    for (int c = 0; c < 3; ++c) {
-      beta[c] = rz[c] > 0 ? tmp[c] / rz[c] : 0.0;
-      rz[c] = tmp[c];
-    }
-#pragma omp parallel for schedule(static) if (par)
-    for (long k = 0; k < 3 * n; ++k) p[k] = z[k] + beta[k % 3] * p[k];
-  }
-  relres_ = std::sqrt(rn2) / bnorm;
+  // One CG per Cartesian component (Jacobi preconditioner), sharing each pass over M.
+  const int it = pcg_.solve(M_, R.data(), q.data(), tol, kMaxIterations, &relres_, true);
+  converged_ = relres_ <= tol;
   return it;
 }
 

@@ -1,11 +1,17 @@
 #include "capsflow/shell/pcg.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "capsflow/shell/parallel.hpp"
 
 namespace capsflow::shell {
+
+namespace {
+constexpr int kMaxColumns = 3;
+}  // namespace
 
 void spmv(const SpMatR& A, const double* x, double* y) {
   const int n = static_cast<int>(A.rows());
@@ -51,106 +57,148 @@ void BlockPcg::setup_preconditioner(const SpMatR& A) {
   }
 }
 
-int BlockPcg::solve(const SpMatR& A, const double* b, double* x, double tol, int max_iter, double* relres) {
+BlockPcg::BlockPcg(int block_size, int columns) : bs_(block_size), k_(columns) {
+  if (bs_ < 1 || bs_ > 3) throw std::invalid_argument("BlockPcg: block size must be 1, 2 or 3");
+  if (k_ < 1 || k_ > kMaxColumns) throw std::invalid_argument("BlockPcg: 1 to 3 right-hand sides");
+}
+
+int BlockPcg::solve(const SpMatR& A, const double* b, double* x, double tol, int max_iter, double* relres,
+                    bool x_is_guess) {
   // Three fused passes per iteration (q = A p with p.q; x/r update with z = P r, r.z, r.r;
   // p = z + beta p), each over fixed chunks of block rows with per-chunk partial sums added
   // serially: deterministic for any thread count, and few synchronisation points.
+  const int K = k_, bs = bs_;
   const long n = A.rows();
-  const int bs = bs_;
   const long nb = n / bs;
-  r_.resize(n); z_.resize(n); p_.resize(n); q_.resize(n);
+  r_.resize(n * K); z_.resize(n * K); p_.resize(n * K); q_.resize(n * K);
   setup_preconditioner(A);
   double* r = r_.data(); double* z = z_.data(); double* p = p_.data(); double* q = q_.data();
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   const double* val = A.valuePtr();
   constexpr long C = 1024;  // block rows per chunk
+  constexpr int kSlots = 3 * kMaxColumns;  // partial sums per chunk
   const long nc = (nb + C - 1) / C;
-  if (static_cast<long>(partial_.size()) < 3 * nc) partial_.resize(3 * nc);
+  if (static_cast<long>(partial_.size()) < kSlots * nc) partial_.resize(kSlots * nc);
   double* part = partial_.data();
-  const bool par = n > 8192;
-  auto sum = [&](int k) {
+  const bool par = n * K > 8192;
+  auto sum = [&](int slot) {
     double s = 0;
-    for (long c = 0; c < nc; ++c) s += part[3 * c + k];
+    for (long c = 0; c < nc; ++c) s += part[kSlots * c + slot];
     return s;
   };
+  // z = P r on one block of rows, every column.
   auto precond_block = [&](long blk) {
     const double* P = &pinv_[blk * bs * bs];
-    for (int i = 0; i < bs; ++i) {
-      double s = 0;
-      for (int j = 0; j < bs; ++j) s += P[i * bs + j] * r[blk * bs + j];
-      z[blk * bs + i] = s;
+    for (int i = 0; i < bs; ++i)
+      for (int c = 0; c < K; ++c) {
+        double s = 0;
+        for (int j = 0; j < bs; ++j) s += P[i * bs + j] * r[(blk * bs + j) * K + c];
+        z[(blk * bs + i) * K + c] = s;
+      }
+  };
+  // Row `row` of A times the n × K vector v, into out[0..K).
+  auto row_times = [&](long row, const double* v, double* out) {
+    for (int c = 0; c < K; ++c) out[c] = 0;
+    for (int k = outer[row]; k < outer[row + 1]; ++k) {
+      const double m = val[k];
+      const double* vk = v + static_cast<long>(inner[k]) * K;
+      for (int c = 0; c < K; ++c) out[c] += m * vk[c];
     }
   };
-  // x = 0, r = b, z = P r, p = z; partials b.b, r.z
+  // r = b − A x0 (x0 = 0 unless x_is_guess), z = P r, p = z; partials b.b, r.z per column, r.r
 #pragma omp parallel for schedule(static) if (par)
-  for (long c = 0; c < nc; ++c) {
-    double bb = 0, rz = 0;
-    const long e = std::min(nb, (c + 1) * C);
-    for (long blk = c * C; blk < e; ++blk) {
+  for (long ch = 0; ch < nc; ++ch) {
+    double bb = 0, rr = 0, rz[kMaxColumns] = {0, 0, 0};
+    const long e = std::min(nb, (ch + 1) * C);
+    for (long blk = ch * C; blk < e; ++blk) {
       for (int i = 0; i < bs; ++i) {
-        const long k = blk * bs + i;
-        x[k] = 0;
-        r[k] = b[k];
-        bb += b[k] * b[k];
-      }
-      precond_block(blk);
-      for (int i = 0; i < bs; ++i) {
-        const long k = blk * bs + i;
-        p[k] = z[k];
-        rz += r[k] * z[k];
-      }
-    }
-    part[3 * c] = bb;
-    part[3 * c + 1] = rz;
-  }
-  const double bnorm = std::sqrt(sum(0));
-  double rz = sum(1);
-  if (relres) *relres = 0;
-  if (bnorm == 0) return 0;
-  int it = 0;
-  double rn = bnorm;
-  while (it < max_iter) {
-#pragma omp parallel for schedule(static) if (par)
-    for (long c = 0; c < nc; ++c) {
-      double pq = 0;
-      const long e = std::min(n, (c + 1) * C * bs);
-      for (long row = c * C * bs; row < e; ++row) {
-        double s = 0;
-        for (int k = outer[row]; k < outer[row + 1]; ++k) s += val[k] * p[inner[k]];
-        q[row] = s;
-        pq += p[row] * s;
-      }
-      part[3 * c] = pq;
-    }
-    const double pq = sum(0);
-    if (!(pq > 0)) break;  // not positive definite along p: return the current iterate
-    const double alpha = rz / pq;
-#pragma omp parallel for schedule(static) if (par)
-    for (long c = 0; c < nc; ++c) {
-      double rr = 0, rzp = 0;
-      const long e = std::min(nb, (c + 1) * C);
-      for (long blk = c * C; blk < e; ++blk) {
-        for (int i = 0; i < bs; ++i) {
-          const long k = blk * bs + i;
-          x[k] += alpha * p[k];
-          r[k] -= alpha * q[k];
+        const long row = blk * bs + i;
+        double ax[kMaxColumns] = {0, 0, 0};
+        if (x_is_guess) row_times(row, x, ax);
+        for (int c = 0; c < K; ++c) {
+          const long k = row * K + c;
+          if (!x_is_guess) x[k] = 0;
+          r[k] = b[k] - ax[c];
+          bb += b[k] * b[k];
           rr += r[k] * r[k];
         }
-        precond_block(blk);
-        for (int i = 0; i < bs; ++i) rzp += r[blk * bs + i] * z[blk * bs + i];
       }
-      part[3 * c] = rr;
-      part[3 * c + 1] = rzp;
+      precond_block(blk);
+      for (int i = 0; i < bs; ++i)
+        for (int c = 0; c < K; ++c) {
+          const long k = (blk * bs + i) * K + c;
+          p[k] = z[k];
+          rz[c] += r[k] * z[k];
+        }
+    }
+    part[kSlots * ch] = bb;
+    part[kSlots * ch + 1] = rr;
+    for (int c = 0; c < K; ++c) part[kSlots * ch + 2 + c] = rz[c];
+  }
+  const double bnorm = std::sqrt(sum(0));
+  double rn = std::sqrt(sum(1));
+  double rz[kMaxColumns];
+  for (int c = 0; c < K; ++c) rz[c] = sum(2 + c);
+  if (relres) *relres = 0;
+  if (bnorm == 0) {
+    std::fill(x, x + n * K, 0.0);
+    return 0;
+  }
+  int it = 0;
+  while (rn > tol * bnorm && it < max_iter) {
+#pragma omp parallel for schedule(static) if (par)
+    for (long ch = 0; ch < nc; ++ch) {
+      double pq[kMaxColumns] = {0, 0, 0};
+      const long e = std::min(n, (ch + 1) * C * bs);
+      for (long row = ch * C * bs; row < e; ++row) {
+        row_times(row, p, q + row * K);
+        for (int c = 0; c < K; ++c) pq[c] += p[row * K + c] * q[row * K + c];
+      }
+      for (int c = 0; c < K; ++c) part[kSlots * ch + c] = pq[c];
+    }
+    // A column whose matrix is not positive along p (or that has converged exactly) stops moving.
+    double alpha[kMaxColumns];
+    bool any = false;
+    for (int c = 0; c < K; ++c) {
+      const double pq = sum(c);
+      alpha[c] = pq > 0 ? rz[c] / pq : 0.0;
+      any = any || pq > 0;
+    }
+    if (!any) break;  // not positive definite along p: return the current iterate
+#pragma omp parallel for schedule(static) if (par)
+    for (long ch = 0; ch < nc; ++ch) {
+      double rr = 0, rzp[kMaxColumns] = {0, 0, 0};
+      const long e = std::min(nb, (ch + 1) * C);
+      for (long blk = ch * C; blk < e; ++blk) {
+        for (int i = 0; i < bs; ++i)
+          for (int c = 0; c < K; ++c) {
+            const long k = (blk * bs + i) * K + c;
+            x[k] += alpha[c] * p[k];
+            r[k] -= alpha[c] * q[k];
+            rr += r[k] * r[k];
+          }
+        precond_block(blk);
+        for (int i = 0; i < bs; ++i)
+          for (int c = 0; c < K; ++c) {
+            const long k = (blk * bs + i) * K + c;
+            rzp[c] += r[k] * z[k];
+          }
+      }
+      part[kSlots * ch] = rr;
+      for (int c = 0; c < K; ++c) part[kSlots * ch + 1 + c] = rzp[c];
     }
     ++it;
     rn = std::sqrt(sum(0));
     if (rn <= tol * bnorm) break;
-    const double rz_new = sum(1);
-    const double beta = rz_new / rz;
-    rz = rz_new;
+    double beta[kMaxColumns];
+    for (int c = 0; c < K; ++c) {
+      const double rz_new = sum(1 + c);
+      beta[c] = rz[c] > 0 ? rz_new / rz[c] : 0.0;
+      rz[c] = rz_new;
+    }
 #pragma omp parallel for schedule(static) if (par)
-    for (long k = 0; k < n; ++k) p[k] = z[k] + beta * p[k];
+    for (long k = 0; k < n * K; ++k) p[k] = z[k] + beta[k % K] * p[k];
   }
   if (relres) *relres = rn / bnorm;
   return it;

@@ -1,5 +1,3 @@
-// GCC 12 reports false -Wmaybe-uninitialized inside Eigen's AVX-512 intrinsics (-march=native).
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "capsflow/shell/static_solver.hpp"
 
 #include <Eigen/IterativeLinearSolvers>

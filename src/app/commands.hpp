@@ -1,5 +1,5 @@
 #pragma once
-// Sub-commands of the capsflow executable (design.md §5).
+// Sub-commands of the capsflow executable (docs/scene-and-output.md §1).
 #include <string>
 #include <vector>
 

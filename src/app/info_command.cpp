@@ -3,11 +3,12 @@
 
 #include <cmath>
 
-#include "capsflow/core/capsule_setup.hpp"
-#include "capsflow/core/geometry.hpp"
-#include "capsflow/core/mesh_stats.hpp"
-#include "capsflow/core/single_layer.hpp"
-#include "capsflow/core/stability.hpp"
+#include "capsflow/core/mesh/reference_mesh.hpp"
+#include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/core/geometry/taylor_deformation.hpp"
+#include "capsflow/core/mesh/stats.hpp"
+#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/dynamics/stability.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {

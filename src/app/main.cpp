@@ -1,4 +1,4 @@
-// capsflow command line (design.md §5): thin — parse, build, run.
+// capsflow command line (docs/scene-and-output.md §1): thin — parse, build, run.
 //   capsflow run [SCENE.toml] [--set key=value]... [-o DIR] [--overwrite] [--restart CKPT] [--threads N]
 //   capsflow info [SCENE.toml] [--set key=value]...
 //   capsflow --version
@@ -10,7 +10,7 @@
 #include <exception>
 #include <unistd.h>
 
-#include "capsflow/core/version.hpp"
+#include "capsflow/core/io/version.hpp"
 #include "commands.hpp"
 
 // OpenMP threads that spin at barriers collapse when the cores are shared with other processes

@@ -1,7 +1,7 @@
 // `capsflow run [SCENE] ...`: resolve the scene (or take the checkpoint's) and run it.
 #include <spdlog/spdlog.h>
 
-#include "capsflow/core/run.hpp"
+#include "capsflow/core/driver/run.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {

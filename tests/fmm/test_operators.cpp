@@ -55,7 +55,7 @@ TEST_P(OperatorChain, FarFieldOnlyMatchesDirect) {
   EXPECT_LE(rel_l2(u, ref), bound) << "p=" << p;
 }
 
-// Bounds: the worst-case single M2L chain errors of numerics.md §3.2 at 1e-10 regularisation
+// Bounds: the worst-case single M2L chain errors of docs/fmm.md §3.2 at 1e-10 regularisation
 // (p = 6: 4.4e-4, p = 8: 3.1e-6) with a factor ~2 margin; well-separated clusters do better.
 INSTANTIATE_TEST_SUITE_P(Orders, OperatorChain,
                          ::testing::Values(std::make_pair(6, 1e-3), std::make_pair(8, 1e-5)));

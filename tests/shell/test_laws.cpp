@@ -87,7 +87,7 @@ TEST(Laws, PrincipalTensionsMatchClosedForms) {
   for (double l1 : {0.7, 1.0, 1.3, 2.1})
     for (double l2 : {0.8, 1.1, 1.9}) {
       double T1, T2;
-      // closed forms (Barthes-Biesel et al. 2002; numerics.md §2.3)
+      // closed forms (Barthes-Biesel et al. 2002; docs/shell.md §2.3)
       nh.principal_tensions(l1, l2, T1, T2);
       EXPECT_NEAR(T1, Gs / (l1 * l2) * (l1 * l1 - 1 / (l1 * l2 * l1 * l2)), 1e-13 * Gs * 10);
       sk.principal_tensions(l1, l2, T1, T2);

@@ -1,7 +1,5 @@
 // Walls: rotation solve, global invariants, determinism, restart, inflated sphere (Laplace law),
 // load recovery.
-// GCC 12 reports false -Wmaybe-uninitialized inside Eigen's AVX-512 intrinsics (-march=native).
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <gtest/gtest.h>
 #include <omp.h>
 

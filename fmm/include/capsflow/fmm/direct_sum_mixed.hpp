@@ -93,35 +93,30 @@ inline void stokeslet_direct_sum_mixed(const double* src, std::size_t n_src, con
       __m512 TH[kVec][3], TL[kVec][3];
       for (int v = 0; v < kVec; ++v)
         for (int d = 0; d < 3; ++d) TH[v][d] = _mm512_load_ps(th[d] + 16 * v), TL[v][d] = _mm512_load_ps(tl[d] + 16 * v);
-      const __m512 half = _mm512_set1_ps(0.5f), three_half = _mm512_set1_ps(1.5f);
       __m512d acc[6 * kVec];  // (vectors × 3 components) × (low, high 8 lanes)
       for (auto& a : acc) a = _mm512_setzero_pd();
       for (std::size_t j0 = 0; j0 < n_src; j0 += kChunk) {
         const std::size_t j1 = std::min(n_src, j0 + kChunk);
-        __m512 u[3 * kVec];
-        for (auto& v : u) v = _mm512_setzero_ps();
+        simd::VecF u[kVec][3];
+        for (auto& uv : u)
+          for (auto& c : uv) c = _mm512_setzero_ps();
         for (std::size_t j = j0; j < j1; ++j) {
-          const __m512 shx = _mm512_set1_ps(ph[0][j]), shy = _mm512_set1_ps(ph[1][j]), shz = _mm512_set1_ps(ph[2][j]);
-          const __m512 slx = _mm512_set1_ps(pl[0][j]), sly = _mm512_set1_ps(pl[1][j]), slz = _mm512_set1_ps(pl[2][j]);
-          const __m512 gx = _mm512_set1_ps(den_x[j]), gy = _mm512_set1_ps(den_y[j]), gz = _mm512_set1_ps(den_z[j]);
+          const simd::VecF shx(ph[0][j]), shy(ph[1][j]), shz(ph[2][j]);
+          const simd::VecF slx(pl[0][j]), sly(pl[1][j]), slz(pl[2][j]);
+          const simd::VecF g[3] = {simd::VecF(den_x[j]), simd::VecF(den_y[j]), simd::VecF(den_z[j])};
           for (int v = 0; v < kVec; ++v) {
-            const __m512 rx = _mm512_add_ps(_mm512_sub_ps(TH[v][0], shx), _mm512_sub_ps(TL[v][0], slx));
-            const __m512 ry = _mm512_add_ps(_mm512_sub_ps(TH[v][1], shy), _mm512_sub_ps(TL[v][1], sly));
-            const __m512 rz = _mm512_add_ps(_mm512_sub_ps(TH[v][2], shz), _mm512_sub_ps(TL[v][2], slz));
-            const __m512 r2 = _mm512_fmadd_ps(rx, rx, _mm512_fmadd_ps(ry, ry, _mm512_mul_ps(rz, rz)));
-            __m512 inv = _mm512_rsqrt14_ps(r2);
-            inv = _mm512_mul_ps(inv, _mm512_fnmadd_ps(_mm512_mul_ps(half, r2), _mm512_mul_ps(inv, inv), three_half));
-            const __m512 inv2 = _mm512_mul_ps(inv, inv);
-            const __m512 fr = _mm512_mul_ps(_mm512_fmadd_ps(gx, rx, _mm512_fmadd_ps(gy, ry, _mm512_mul_ps(gz, rz))), inv2);
-            u[3 * v] = _mm512_fmadd_ps(inv, _mm512_fmadd_ps(rx, fr, gx), u[3 * v]);
-            u[3 * v + 1] = _mm512_fmadd_ps(inv, _mm512_fmadd_ps(ry, fr, gy), u[3 * v + 1]);
-            u[3 * v + 2] = _mm512_fmadd_ps(inv, _mm512_fmadd_ps(rz, fr, gz), u[3 * v + 2]);
+            const simd::VecF r[3] = {(simd::VecF(TH[v][0]) - shx) + (simd::VecF(TL[v][0]) - slx),
+                                     (simd::VecF(TH[v][1]) - shy) + (simd::VecF(TL[v][1]) - sly),
+                                     (simd::VecF(TH[v][2]) - shz) + (simd::VecF(TL[v][2]) - slz)};
+            const simd::VecF r2 = simd::fma(r[0], r[0], simd::fma(r[1], r[1], r[2] * r[2]));
+            Stokeslet::eval(u[v], r, simd::rsqrt(r2), g);
           }
         }
         for (int k = 0; k < 3 * kVec; ++k) {
-          acc[2 * k] = _mm512_add_pd(acc[2 * k], _mm512_cvtps_pd(_mm512_castps512_ps256(u[k])));
+          const __m512 uk = u[k / 3][k % 3].v;
+          acc[2 * k] = _mm512_add_pd(acc[2 * k], _mm512_cvtps_pd(_mm512_castps512_ps256(uk)));
           acc[2 * k + 1] =
-              _mm512_add_pd(acc[2 * k + 1], _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(u[k]), 1))));
+              _mm512_add_pd(acc[2 * k + 1], _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(uk), 1))));
         }
       }
       alignas(64) double buf[3 * kVec][16];

@@ -14,7 +14,7 @@
 // A level-l box of half-width r has K_l = r^h K_ref, so P2M and P2L multiply check potentials
 // computed in true (normalised) coordinates by r^{-h} before applying uc2ue / dc2de.
 // Regularisation: singular values below pinv_rel_tol(p)·s_max (1e-10, 1e-11 for p >= 11) are
-// dropped (numerics.md §3.2: truncating at machine epsilon ruins the Stokeslet at p >= 10
+// dropped (docs/fmm.md §3.2: truncating at machine epsilon ruins the Stokeslet at p >= 10
 // because of its exact null direction).
 #include <omp.h>
 
@@ -37,7 +37,7 @@ namespace capsflow::fmm {
 /// is 1.1e-8 / 1.3e-9 / 1.4e-10 (p = 10 / 12 / 14) at 1e-10, and 1.7e-8 / 6.4e-10 / 6.3e-11 at
 /// 1e-11: a deeper cut pays once the surface resolves the field (p >= 11), but at p <= 10 it only
 /// adds ill-conditioned singular triplets. 4·ε (PVFMM's default) ruins the Stokeslet at p >= 10
-/// (numerics.md §3.2).
+/// (docs/fmm.md §3.2).
 inline double pinv_rel_tol(int p) { return p <= 10 ? 1e-10 : 1e-11; }
 
 

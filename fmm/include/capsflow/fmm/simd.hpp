@@ -53,6 +53,26 @@ inline VecD rsqrt(VecD r2) {
   const __mmask8 nz = _mm512_cmp_pd_mask(r2.v, _mm512_setzero_pd(), _CMP_GT_OQ);
   return _mm512_maskz_mov_pd(nz, y);
 }
+
+// 16 single-precision lanes (AVX-512 only): the pair type of the mixed-precision direct sum
+// (direct_sum_mixed.hpp), so that its pairs use the same kernel formula as every other path.
+struct VecF {
+  __m512 v;
+  static constexpr int width = 16;
+  VecF() = default;
+  VecF(__m512 x) : v(x) {}
+  explicit VecF(float x) : v(_mm512_set1_ps(x)) {}
+};
+inline VecF operator+(VecF a, VecF b) { return _mm512_add_ps(a.v, b.v); }
+inline VecF operator-(VecF a, VecF b) { return _mm512_sub_ps(a.v, b.v); }
+inline VecF operator*(VecF a, VecF b) { return _mm512_mul_ps(a.v, b.v); }
+inline VecF fma(VecF a, VecF b, VecF c) { return _mm512_fmadd_ps(a.v, b.v, c.v); }
+// 14-bit hardware estimate and one Newton step (~2⁻²⁷ relative); no r2 == 0 mask.
+inline VecF rsqrt(VecF r2) {
+  const __m512 half = _mm512_set1_ps(0.5f), three_half = _mm512_set1_ps(1.5f);
+  const __m512 y = _mm512_rsqrt14_ps(r2.v);
+  return _mm512_mul_ps(y, _mm512_fnmadd_ps(_mm512_mul_ps(half, r2.v), _mm512_mul_ps(y, y), three_half));
+}
 #elif defined(__AVX2__) && defined(__FMA__)
 struct VecD {
   __m256d v;

@@ -1,7 +1,7 @@
 #pragma once
 // Nodal directors and their tangent triads (t1, t2, d), right-handed: t1 x t2 = d.
 // Rotations are applied incrementally with Rodrigues' formula (exact for any angle), and the same
-// rotation transports t1, t2, so the triad stays nodal and orthonormal (numerics.md pitfalls 3-4).
+// rotation transports t1, t2, so the triad stays nodal and orthonormal (docs/shell.md §2.8.1–2.8.2).
 #include "capsflow/shell/types.hpp"
 
 namespace capsflow::shell {

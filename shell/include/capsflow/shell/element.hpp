@@ -1,5 +1,5 @@
 #pragma once
-// MITC3 GSMB triangle (paper §2.3-2.6, §4.1; shared/numerics.md §1-2): the element kernels.
+// MITC3 GSMB triangle (paper §2.3-2.6, §4.1; docs/shell.md §1–2): the element kernels.
 //
 // Natural coordinates (r, s), shape functions N = (1-r-s, r, s), nodes at (0,0), (1,0), (0,1).
 // Reference mid-surface X, reference nodal unit directors D_p; current x and unit directors d_p.

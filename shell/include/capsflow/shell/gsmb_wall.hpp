@@ -18,7 +18,7 @@
 // Convergence: max_i |R_theta,i| / K_ii <= newton_tol. This is the Jacobi estimate (in radians)
 // of the remaining Newton correction, i.e. the paper's criterion |theta_{i+1} - theta_i| < 1e-7
 // (Eq. 53) evaluated before the step. Default 1e-10: 1000x tighter than the paper because an
-// error in theta is amplified by h D in the load (numerics.md pitfall 5); with quadratic
+// error in theta is amplified by h D in the load (docs/shell.md §2.8.3); with quadratic
 // convergence the extra cost is at most one Newton step.
 #include <Eigen/SparseCore>
 #include <array>

@@ -15,6 +15,7 @@
 // Second Piola-Kirchhoff tension (contravariant, force per reference length):
 //   S^{ab} = dW/dgamma_ab = 2 W1 A^{ab} + 2 W2 J_s^2 a^{ab}   (J_s^2 a^{ab} = adj(a)^{ab}/det A).
 // Principal Cauchy tension (force per deformed length): T1 = 2 (l1/l2) W1 + 2 l1 l2 W2.
+#include <optional>
 #include <string>
 
 namespace capsflow::shell {
@@ -77,9 +78,15 @@ struct MembraneLaw {
   const char* name() const;
 };
 
-/// name: "gh" | "nh" | "skalak" (also "sk") | "mr" (Mooney-Rivlin, Psi = skalak_c).
+/// The law's short name: "gh" | "nh" | "skalak" | "mr" (the scene and output spelling).
+const char* to_string(LawKind kind);
+/// The kind named `name` ("sk" is accepted for Skalak), or nothing.
+std::optional<LawKind> law_from_name(const std::string& name);
+
 /// nu_s is used by GH only, skalak_c by Skalak (C) and Mooney-Rivlin (Psi).
-/// Throws std::invalid_argument on an unknown name.
+/// Throws std::invalid_argument on parameters outside the law's range.
+MembraneLaw make_law(LawKind kind, double Gs, double nu_s = 0.5, double skalak_c = 1.0);
+/// Same, by name; throws std::invalid_argument on an unknown name.
 MembraneLaw make_law(const std::string& name, double Gs, double nu_s = 0.5, double skalak_c = 1.0);
 
 }  // namespace capsflow::shell

@@ -1,5 +1,5 @@
 #pragma once
-// Full-state checkpoints for `--restart` (design.md §4 Checkpoints, style.md B.3).
+// Full-state checkpoints for `--restart` (docs/scene-and-output.md §3.6, docs/time-integration.md §5.5).
 //
 // write_checkpoint writes `<path>.tmp.<pid>`, fsyncs it, renames the current `<path>` (if any) to
 // its previous slot (checkpoint.h5 → checkpoint.prev.h5), renames the temporary to `<path>` and

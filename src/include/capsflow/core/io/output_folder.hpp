@@ -1,6 +1,6 @@
 #pragma once
 // Preparing the output folder of a run (the `-o DIR`, `--overwrite` and `--restart` contract of
-// design.md §5).
+// docs/scene-and-output.md §1.1 and §3.1).
 //
 // A fresh run refuses a non-empty folder unless overwrite is set. With overwrite, only the files
 // capsflow itself writes are removed (never a recursive delete of a user folder: `-o ~` must not

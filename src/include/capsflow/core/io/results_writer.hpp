@@ -1,5 +1,5 @@
 #pragma once
-// The run's output, called by the time integrator (design.md §4 Output, §5 result contract):
+// The run's output, called by the time integrator (docs/scene-and-output.md §3):
 //
 //   DIR/run.h5          /mesh/triangles (int32 M×3), /mesh/reference_positions (float64 N×3),
 //                       /metadata, /steps/<k>/{positions, <fields>} with attribute `time`,
@@ -77,7 +77,7 @@ class ResultsWriter {
   // One row of timeseries.csv (header from the first row; see timeseries_csv.hpp).
   void append_row(const CsvRow& row);
 
-  // summary.json, written atomically (keys: design.md §5).
+  // summary.json, written atomically (keys: docs/scene-and-output.md §3.5).
   void write_summary(const nlohmann::json& summary);
 
   // Timer table into run.h5:/timing, replacing an earlier one: the JSON text as /timing/json,

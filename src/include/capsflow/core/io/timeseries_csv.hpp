@@ -1,5 +1,5 @@
 #pragma once
-// timeseries.csv: one row of scalar diagnostics per output time (design.md §5).
+// timeseries.csv: one row of scalar diagnostics per output time (docs/scene-and-output.md §3.4).
 //
 // The header comes from the first row's names; later rows must have the same names in the same
 // order (a CSV whose columns shift is worse than an error). Each row is flushed, so `tail -f` and

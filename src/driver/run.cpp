@@ -1,0 +1,351 @@
+#include "capsflow/core/driver/run.hpp"
+
+#include <omp.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <csignal>
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include "capsflow/core/dynamics/capsule_dynamics.hpp"
+#include "capsflow/core/dynamics/heun.hpp"
+#include "capsflow/core/dynamics/run_health.hpp"
+#include "capsflow/core/dynamics/steady_state.hpp"
+#include "capsflow/core/mesh/reference_mesh.hpp"
+#include "capsflow/core/geometry/shape_diagnostics.hpp"
+#include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/h5.hpp"
+#include "capsflow/core/io/output_folder.hpp"
+#include "capsflow/core/io/results_writer.hpp"
+#include "capsflow/core/mesh/stats.hpp"
+#include "capsflow/core/geometry/profiles.hpp"
+#include "capsflow/core/dynamics/stability.hpp"
+#include "capsflow/core/io/version.hpp"
+
+namespace capsflow {
+
+namespace {
+
+std::atomic<int> g_signal{0};
+extern "C" void on_signal(int sig) { g_signal = sig; }
+
+std::string hms(double s) {
+  if (!std::isfinite(s)) return "?";
+  const long t = static_cast<long>(s + 0.5);
+  return t >= 3600 ? fmt::format("{}h{:02}m", t / 3600, (t / 60) % 60) : fmt::format("{}m{:02}s", t / 60, t % 60);
+}
+
+// Everything that evolves, and what a checkpoint must carry to continue bit for bit.
+struct RunState {
+  Points x;
+  double t = 0, dt = 0;
+  long step = 0;
+  long next_output = 1;      // index k of the next output time k·every
+  long next_checkpoint = 1;  // index of the next periodic checkpoint
+  double volume0 = 0, area0 = 0;
+  double wall_seconds_before = 0;  // wall time of earlier (restarted) segments
+  nlohmann::json extra() const {
+    return {{"next_output", next_output}, {"next_checkpoint", next_checkpoint}, {"volume0", volume0},
+            {"area0", area0}, {"wall_seconds", wall_seconds_before}};
+  }
+};
+
+class Simulation {
+ public:
+  Simulation(const RunOptions& opt) : opt_(opt) {}
+  int run();
+
+ private:
+  void setup();
+  double next_dt() const;
+  void write_output();
+  void write_checkpoint();
+  void report_progress(bool force);
+  nlohmann::json timing_table() const;
+  void finish(const std::string& stop_reason);
+  double wall_seconds() const { return st_.wall_seconds_before + segment_clock_.seconds(); }
+
+  RunOptions opt_;
+  Scene scene_;
+  SurfaceMesh ref_;
+  std::unique_ptr<CapsuleDynamics> dyn_;
+  Heun integrator_;
+  std::unique_ptr<io::ResultsWriter> out_;
+  std::unique_ptr<SteadyStateDetector> steady_;
+  std::filesystem::path folder_;
+  RunState st_;
+  Stopwatch segment_clock_, report_clock_;
+  long steps_this_segment_ = 0;
+  double last_output_t_ = -1;
+  ShapeDiagnostics last_shape_;
+  Points x_prev_, v_out_;
+  Eigen::VectorXd wall_prev_;
+  int threads_ = 1;
+};
+
+void Simulation::setup() {
+  if (opt_.threads > 0) omp_set_num_threads(opt_.threads);
+  threads_ = omp_get_max_threads();
+  io::CheckpointState ck;
+  if (!opt_.restart.empty()) {
+    ck = io::read_checkpoint(opt_.restart);
+    scene_ = parse_scene(ck.scene_toml, opt_.restart + " (scene)", opt_.restart_overrides);
+    folder_ = opt_.output_dir.empty() ? std::filesystem::path(opt_.restart).parent_path() : std::filesystem::path(opt_.output_dir);
+    io::open_output_folder_for_restart(folder_);
+    ref_ = SurfaceMesh{ck.reference_positions, ck.triangles};
+  } else {
+    scene_ = opt_.scene;
+    folder_ = opt_.output_dir;
+    ref_ = make_reference_mesh(scene_.mesh);  // validates a user mesh before touching the folder
+    io::prepare_output_folder(folder_, opt_.overwrite);
+  }
+  steady_ = std::make_unique<SteadyStateDetector>(scene_.time.steady_tol);
+  dyn_ = std::make_unique<CapsuleDynamics>(scene_, ref_, threads_);
+  if (!opt_.restart.empty()) {
+    st_.x = ck.positions;
+    st_.t = ck.t;
+    st_.dt = ck.dt;
+    st_.step = ck.step;
+    dyn_->wall().set_state(ck.wall_state);
+    steady_->set_history(ck.history);
+    const auto e = nlohmann::json::parse(ck.extra);
+    st_.next_output = e.at("next_output");
+    st_.next_checkpoint = e.at("next_checkpoint");
+    st_.volume0 = e.at("volume0");
+    st_.area0 = e.at("area0");
+    st_.wall_seconds_before = e.at("wall_seconds");
+    last_output_t_ = st_.t;
+  } else {
+    st_.x = ref_.vertices;
+    st_.volume0 = enclosed_volume(ref_);
+    st_.area0 = surface_area(ref_);
+    steady_->add(0.0, st_.area0);
+  }
+  nlohmann::json meta = {{"scene_toml", scene_.toml_text}, {"scene_resolved", to_json(scene_)},
+                         {"command_line", opt_.command_line}, {"version", version_string()},
+                         {"git_hash", git_hash()}, {"build", build_info()}, {"threads", threads_},
+                         {"backend", to_string(dyn_->single_layer().backend())},
+                         {"backend_reason", dyn_->single_layer().backend_reason()},
+                         {"fmm_order", dyn_->single_layer().fmm_order()}};
+  out_ = opt_.restart.empty() ? std::make_unique<io::ResultsWriter>(folder_, ref_, meta)
+                              : std::make_unique<io::ResultsWriter>(io::ResultsWriter::reopen(folder_, st_.t, meta));
+  spdlog::info("capsflow {} (git {}), {} threads", version_string(), git_hash(), threads_);
+  spdlog::info("scene {}: {} elements, {} nodes, wall {} {}, flow {}, Ca_s = {:g}", scene_.source, ref_.num_elements(),
+               ref_.num_nodes(), to_string(scene_.wall.model), shell::to_string(scene_.wall.law), to_string(scene_.flow.type),
+               scene_.flow.ca_s);
+  spdlog::info("boundary integral: {} ({})", to_string(dyn_->single_layer().backend()), dyn_->single_layer().backend_reason());
+  spdlog::info("output: {}{}", folder_.string(), opt_.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st_.t));
+}
+
+double Simulation::next_dt() const {
+  double dt = scene_.time.dt;
+  if (scene_.time.dt_auto) {
+    const SurfaceMesh cur{st_.x, ref_.triangles};
+    dt = scene_.time.dt_safety * stability_estimate(scene_, min_edge_length(cur)).limit();
+  }
+  // Land exactly on output times and t_end.
+  const double t_out = st_.next_output * scene_.output.every;
+  return std::min({dt, t_out - st_.t, scene_.time.t_end - st_.t});
+}
+
+void Simulation::write_output() {
+  const SurfaceMesh cur{st_.x, ref_.triangles};
+  last_shape_ = shape_diagnostics(cur);
+  const auto& s = last_shape_;
+  const shell::WallEnergies en = dyn_->wall().energies(st_.x);
+  io::NamedFields fields;
+  if (scene_.wants_field(OutputField::Velocity) || scene_.wants_field(OutputField::Load)) {
+    dyn_->velocity(st_.x, v_out_);
+    if (scene_.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out_);
+    if (scene_.wants_field(OutputField::Load)) fields.emplace_back("load", dyn_->load());
+  }
+  if (scene_.wants_field(OutputField::Energy)) {
+    Eigen::VectorXd Em, Eb, Esh;
+    dyn_->wall().nodal_energy_maps(st_.x, Em, Eb, Esh);
+    fields.emplace_back("E_membrane", Em);
+    fields.emplace_back("E_bending", Eb);
+    fields.emplace_back("E_shear", Esh);
+  }
+  out_->write_step(st_.t, st_.x, fields);
+  {  // profiles in the three coordinate planes through the volume centroid
+    io::h5::File f = io::h5::File::open(folder_ / io::kRunH5, io::h5::File::Mode::read_write, true);
+    // Kept beside /steps (whose groups hold nodal fields only): /profiles/<k>/<plane>/{points, offsets}.
+    const std::string name = fmt::format("profiles/{:06}", out_->num_steps() - 1);
+    if (f.exists(name)) f.remove(name);  // left over from a run continued by --restart
+    io::h5::Group g = f.require_group(name);
+    g.set_attribute("time", st_.t);
+    const Vec3 c = volume_moments(cur).centroid;
+    for (CoordinatePlane p : {CoordinatePlane::X1X2, CoordinatePlane::X1X3, CoordinatePlane::X2X3}) {
+      const auto lines = cross_section(cur, p, c);
+      long n = 0;
+      for (const auto& l : lines) n += static_cast<long>(l.points.size());
+      Points pts(n, 3);
+      Eigen::VectorXi offsets(static_cast<Eigen::Index>(lines.size() + 1));
+      long k = 0;
+      offsets[0] = 0;
+      for (size_t i = 0; i < lines.size(); ++i) {
+        for (const auto& pt : lines[i].points) pts.row(k++) = pt.transpose();
+        offsets[static_cast<Eigen::Index>(i + 1)] = static_cast<int>(k);
+      }
+      io::h5::Group pg = g.require_group(to_string(p));
+      pg.write_matrix("points", pts);
+      pg.write_vector("offsets", offsets);
+    }
+    f.close();
+  }
+  out_->append_row({{"t", st_.t}, {"step", static_cast<double>(st_.step)}, {"dt", st_.dt},
+                    {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
+                    {"Le1", s.Le[0]}, {"Le2", s.Le[1]}, {"Le3", s.Le[2]}, {"L1", s.L[0]}, {"L2", s.L[1]}, {"L3", s.L[2]},
+                    {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st_.volume0 - 1},
+                    {"E_membrane", en.membrane}, {"E_bending", en.bending}, {"E_shear", en.shear},
+                    {"steady_measure", steady_->measure()}, {"wall_seconds", wall_seconds()}});
+  last_output_t_ = st_.t;
+}
+
+void Simulation::write_checkpoint() {
+  io::CheckpointState ck;
+  ck.step = st_.step;
+  ck.t = st_.t;
+  ck.dt = st_.dt;
+  ck.positions = st_.x;
+  ck.reference_positions = ref_.vertices;
+  ck.triangles = ref_.triangles;
+  ck.wall_state = dyn_->wall().state();
+  ck.history = steady_->history();
+  ck.scene_toml = to_toml(scene_);
+  ck.scene_resolved = to_json(scene_).dump();
+  ck.version = fmt::format("{} ({})", version_string(), git_hash());
+  RunState s = st_;
+  s.wall_seconds_before = wall_seconds();
+  ck.extra = s.extra().dump();
+  io::write_checkpoint(folder_ / io::kCheckpointFile, ck);
+}
+
+void Simulation::report_progress(bool force) {
+  if (!force && report_clock_.seconds() < opt_.progress_interval) return;
+  report_clock_.restart();
+  const double seg = segment_clock_.seconds();
+  const double per_step = steps_this_segment_ ? seg / static_cast<double>(steps_this_segment_) : 0;
+  const double t_end = scene_.time.t_end;
+  const double eta = st_.dt > 0 ? per_step * (t_end - st_.t) / st_.dt : NAN;
+  const SurfaceMesh cur{st_.x, ref_.triangles};
+  spdlog::info("step {:>7}  t {:.4f}/{:g} ({:5.1f}%)  dt {:.2e}  {:.1f} ms/step  ETA {}  dV/V {:+.1e}  steady {:.1e} (tol {:.0e})",
+               st_.step, st_.t, t_end, 100 * st_.t / t_end, st_.dt, 1e3 * per_step, hms(eta),
+               enclosed_volume(cur) / st_.volume0 - 1, steady_->measure(), scene_.time.steady_tol);
+}
+
+nlohmann::json Simulation::timing_table() const {
+  const PhaseTimes p = dyn_->times();
+  const RhsCounters& n = dyn_->counters();
+  const double total = wall_seconds() - st_.wall_seconds_before;
+  // "other" is what the phases do not cover (the integrator's updates, diagnostics, output).
+  nlohmann::json phases = nlohmann::json::object();
+  double known = 0;
+  for (std::size_t i = 0; i < kPhaseNames.size(); ++i) {
+    const Phase ph = static_cast<Phase>(i);
+    if (ph == Phase::Other) continue;
+    phases[kPhaseNames[i]] = p[ph];
+    known += p[ph];
+  }
+  phases[kPhaseNames[static_cast<std::size_t>(Phase::Other)]] = std::max(0.0, total - known);
+  return {{"total_seconds", total}, {"steps", steps_this_segment_}, {"stages", n.evaluations},
+          {"seconds_per_step", steps_this_segment_ ? total / static_cast<double>(steps_this_segment_) : 0},
+          {"phases", phases},
+          {"iterations", {{"newton", n.newton_iterations}, {"rotation_cg", n.cg_iterations}, {"mass_cg", n.mass_cg_iterations}}}};
+}
+
+void Simulation::finish(const std::string& stop_reason) {
+  const nlohmann::json timing = timing_table();
+  out_->write_timings(timing);
+  const auto& s = last_shape_;
+  nlohmann::json summary = {
+      {"t", st_.t}, {"steps", st_.step}, {"steady", steady_->steady()}, {"stop_reason", stop_reason},
+      {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
+      {"L", {s.L[0], s.L[1], s.L[2]}}, {"Le", {s.Le[0], s.Le[1], s.Le[2]}},
+      {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st_.volume0 - 1},
+      {"wall_seconds", wall_seconds()}, {"elements", ref_.num_elements()}, {"nodes", ref_.num_nodes()},
+      {"backend", to_string(dyn_->single_layer().backend())}, {"backend_reason", dyn_->single_layer().backend_reason()},
+      {"fmm_order", dyn_->single_layer().fmm_order()}, {"threads", threads_},
+      {"steady_measure", steady_->measure()}, {"timing", timing}, {"scene", to_json(scene_)},
+      {"version", version_string()}, {"git", git_hash()}};
+  out_->write_summary(summary);
+  const auto& ph = timing["phases"];
+  spdlog::info("stopped: {} at t = {:g} after {} steps, {:.1f} s", stop_reason, st_.t, st_.step, wall_seconds());
+  spdlog::info("phase                       seconds   share");
+  const double total = timing["total_seconds"].get<double>();
+  for (const auto& [k, v] : ph.items())
+    spdlog::info("  {:<26}{:>8.2f}  {:>5.1f}%", k, v.get<double>(), total > 0 ? 100 * v.get<double>() / total : 0);
+  spdlog::info("D12 {:.4f}  D13 {:.4f}  D23 {:.4f}  L {:.3f} {:.3f} {:.3f}  Le {:.3f} {:.3f} {:.3f}", s.D.D12, s.D.D13, s.D.D23,
+               s.L[0], s.L[1], s.L[2], s.Le[0], s.Le[1], s.Le[2]);
+}
+
+int Simulation::run() {
+  setup();
+  g_signal = 0;
+  auto old_int = std::signal(SIGINT, on_signal);
+  auto old_term = std::signal(SIGTERM, on_signal);
+  struct Restore {
+    decltype(old_int) i, t;
+    ~Restore() { std::signal(SIGINT, i), std::signal(SIGTERM, t); }
+  } restore{old_int, old_term};
+
+  if (opt_.restart.empty()) write_output();
+  else last_shape_ = shape_diagnostics(SurfaceMesh{st_.x, ref_.triangles});
+  std::string stop = "t_end";
+  const double eps = 1e-12 * std::max(1.0, scene_.time.t_end);
+  while (st_.t < scene_.time.t_end - eps) {
+    if (g_signal) {
+      spdlog::warn("signal {} received: writing a checkpoint and stopping", static_cast<int>(g_signal));
+      stop = "interrupted";
+      break;
+    }
+    st_.dt = next_dt();
+    const double t_out = st_.next_output * scene_.output.every;
+    x_prev_ = st_.x;
+    wall_prev_ = dyn_->wall().state();  // to roll back a blown-up step
+    integrator_.step(*dyn_, st_.x, st_.dt);
+    const std::string problem = check_health(SurfaceMesh{x_prev_, ref_.triangles}, st_.x, st_.volume0);
+    if (!problem.empty()) {
+      spdlog::error("blow-up at step {} (t = {:g}, dt = {:.3g}): {}; keeping the last healthy state", st_.step + 1, st_.t + st_.dt,
+                    st_.dt, problem);
+      st_.x = x_prev_;
+      dyn_->wall().set_state(wall_prev_);
+      stop = "blow_up";
+      break;
+    }
+    st_.t = std::abs(st_.t + st_.dt - t_out) <= eps ? t_out : st_.t + st_.dt;
+    ++st_.step;
+    ++steps_this_segment_;
+    steady_->add(st_.t, surface_area(SurfaceMesh{st_.x, ref_.triangles}));
+    if (st_.t >= t_out - eps) {
+      write_output();
+      ++st_.next_output;
+    }
+    if (scene_.output.checkpoint_every > 0 && st_.t >= st_.next_checkpoint * scene_.output.checkpoint_every - eps) {
+      write_checkpoint();
+      while (st_.next_checkpoint * scene_.output.checkpoint_every <= st_.t + eps) ++st_.next_checkpoint;
+    }
+    report_progress(false);
+    if (scene_.time.stop_at_steady && steady_->steady()) {
+      stop = "steady";
+      break;
+    }
+  }
+  if (last_output_t_ != st_.t) write_output();
+  write_checkpoint();
+  report_progress(true);
+  finish(stop);
+  if (stop == "blow_up") return 3;
+  if (stop == "interrupted") return 130;
+  return 0;
+}
+
+}  // namespace
+
+int run_simulation(const RunOptions& options) {
+  Simulation sim(options);
+  return sim.run();
+}
+
+}  // namespace capsflow

@@ -1,0 +1,80 @@
+#include "capsflow/core/geometry/measures.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <vector>
+
+namespace capsflow {
+
+namespace {
+inline Vec3 vertex(const SurfaceMesh& m, int i) { return m.vertices.row(i).transpose(); }
+// Twice the area vector (x1 − x0) × (x2 − x0) of element e.
+inline Vec3 area_vector2(const SurfaceMesh& m, Eigen::Index e) {
+  const Vec3 a = vertex(m, m.triangles(e, 0)), b = vertex(m, m.triangles(e, 1)),
+             c = vertex(m, m.triangles(e, 2));
+  return (b - a).cross(c - a);
+}
+}  // namespace
+
+Eigen::VectorXd element_areas(const SurfaceMesh& mesh) {
+  Eigen::VectorXd a(mesh.num_elements());
+  for (Eigen::Index e = 0; e < a.size(); ++e) a[e] = 0.5 * area_vector2(mesh, e).norm();
+  return a;
+}
+
+Points element_normals(const SurfaceMesh& mesh) {
+  Points n(mesh.num_elements(), 3);
+  for (Eigen::Index e = 0; e < n.rows(); ++e) n.row(e) = area_vector2(mesh, e).normalized().transpose();
+  return n;
+}
+
+Points nodal_normals(const SurfaceMesh& mesh) {
+  Points n = Points::Zero(mesh.num_nodes(), 3);
+  for (Eigen::Index e = 0; e < mesh.num_elements(); ++e) {
+    const Vec3 a2 = area_vector2(mesh, e);  // area-weighted normal
+    for (int k = 0; k < 3; ++k) n.row(mesh.triangles(e, k)) += a2.transpose();
+  }
+  for (Eigen::Index i = 0; i < n.rows(); ++i) n.row(i).normalize();
+  return n;
+}
+
+Eigen::VectorXd nodal_areas(const SurfaceMesh& mesh) {
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(mesh.num_nodes());
+  const Eigen::VectorXd ae = element_areas(mesh);
+  for (Eigen::Index e = 0; e < mesh.num_elements(); ++e)
+    for (int k = 0; k < 3; ++k) a[mesh.triangles(e, k)] += ae[e] / 3.0;
+  return a;
+}
+
+double surface_area(const SurfaceMesh& mesh) { return element_areas(mesh).sum(); }
+
+double enclosed_volume(const SurfaceMesh& mesh) { return volume_moments(mesh).volume; }
+
+VolumeMoments volume_moments(const SurfaceMesh& mesh) {
+  // Tetrahedra from a reference point o (the vertex mean, to limit round-off) to each facet.
+  const Vec3 o = mesh.vertices.colwise().mean().transpose();
+  double vol = 0;
+  Vec3 first = Vec3::Zero();
+  Mat3 second = Mat3::Zero();
+  for (Eigen::Index e = 0; e < mesh.num_elements(); ++e) {
+    const Vec3 v0 = vertex(mesh, mesh.triangles(e, 0)) - o, v1 = vertex(mesh, mesh.triangles(e, 1)) - o,
+               v2 = vertex(mesh, mesh.triangles(e, 2)) - o;
+    const double vt = v0.dot(v1.cross(v2)) / 6.0;
+    const Vec3 s = v0 + v1 + v2;
+    vol += vt;
+    first += vt * s / 4.0;
+    second += (vt / 20.0) * (v0 * v0.transpose() + v1 * v1.transpose() + v2 * v2.transpose() + s * s.transpose());
+  }
+  VolumeMoments m;
+  m.volume = vol;
+  const Vec3 c = first / vol;  // centroid relative to o
+  m.centroid = o + c;
+  m.second_moment = second - vol * c * c.transpose();
+  return m;
+}
+
+Vec3 half_extents(const SurfaceMesh& mesh) {
+  return 0.5 * (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).transpose();
+}
+
+}  // namespace capsflow
