@@ -19,7 +19,7 @@ t_end=${T_END:-1.5} iters=${ITER:-8} threads=${THREADS:-2}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 common=(--set "mesh.level=$level" --set "wall.law=\"$law\"" --set "wall.model=\"$model\"" --set "flow.ca_s=$ca"
-        --set "time.t_end=$t_end" --set output.every=0.5 --set output.checkpoint_every=0 --threads "$threads" "$@")
+        --set "time.t_end=$t_end" --set output.every=0.5 --set output.checkpoint_every=0 "$@")
 
 # Reference numbers from `capsflow info`: the auto step (safety 1) and the mesh's shortest edge.
 info=$("$exe" info "${common[@]}")
@@ -28,7 +28,7 @@ min_edge=$(grep -oP '^edge length\s+min \K[0-9.e+-]+' <<<"$info")
 
 blows_up() {  # $1 = dt; true when the run stops with blow_up
   local rc=0
-  "$exe" run "${common[@]}" --set "time.dt=$1" -o "$work/run" --overwrite >/dev/null 2>&1 || rc=$?
+  "$exe" run "${common[@]}" --set "time.dt=$1" --threads "$threads" -o "$work/run" --overwrite >/dev/null 2>&1 || rc=$?
   [[ $rc -eq 3 ]] && return 0
   [[ $rc -eq 0 ]] && return 1
   echo "bisect_dt: capsflow exited $rc at dt = $1" >&2
