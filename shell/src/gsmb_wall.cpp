@@ -274,6 +274,13 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
   return st;
 }
 
+void GsmbWall::restart_rotations(const Points& x) {
+  nodal_normals(x, n_cur_);
+  set_directors(n_cur_);
+  n_prev_ = n_cur_;
+  last_newton_ = 0;
+}
+
 void GsmbWall::forces(const Points& x, Points& R_s, WallStats* stats) {
   if (&R_s == &x) throw std::invalid_argument("GsmbWall::forces: R_s must not alias x");
   const WallStats st = solve_rotations(x);

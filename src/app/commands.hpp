@@ -8,6 +8,10 @@ namespace capsflow::app {
 struct InfoOptions {
   std::string scene_path;  // empty: built-in default scene
   std::vector<std::string> overrides;
+  // Evaluate the right-hand side (time per evaluation, spectral radius by power iteration):
+  // automatic up to kProbeElements elements, forced by --probe.
+  bool probe = false;
+  static constexpr long kProbeElements = 20480;
 };
 int info_command(const InfoOptions& opt);
 

@@ -1,6 +1,8 @@
 // `capsflow info SCENE.toml`: the resolved scene and a report of the reference mesh.
 #include <fmt/core.h>
 
+#include <omp.h>
+
 #include <cmath>
 
 #include "capsflow/core/mesh/reference_mesh.hpp"
@@ -9,6 +11,9 @@
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/dynamics/stability.hpp"
+#include "capsflow/core/dynamics/capsule_dynamics.hpp"
+#include "capsflow/core/dynamics/rkc.hpp"
+#include "capsflow/core/phase_times.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {
@@ -40,12 +45,56 @@ int info_command(const InfoOptions& opt) {
   const FarFieldBackend b = choose_backend(scene.fluid.backend, mesh.num_elements(), mesh.num_nodes(), scene.fluid.tolerance, &why);
   fmt::print("back end        {} ({})\n", to_string(b), why);
   const StabilityEstimate se = stability_estimate(scene, st.edge_min);
-  fmt::print("stable dt       {:.3e} at t = 0 (membrane {:.3e}, bending {:.3e}, flow cap {:.3e}; limited by {})\n",
+  fmt::print("stable dt       {:.3e} at t = 0 for Heun (membrane {:.3e}, bending {:.3e}, flow cap {:.3e}; limited by {})\n",
              se.limit(), se.membrane, se.bending, se.flow, se.limiting());
-  const double dt = scene.time.dt_auto ? scene.time.dt_safety * se.limit() : scene.time.dt;
-  fmt::print("time step       {:.3e} ({}), about {:.0f} steps to t_end = {:g}\n", dt,
-             scene.time.dt_auto ? fmt::format("auto: {:g} × stable dt, recomputed every step", scene.time.dt_safety) : "fixed",
-             std::ceil(scene.time.t_end / dt), scene.time.t_end);
+  // Heun's real stability interval is 2, so the calibrated limit implies a spectral radius.
+  const double rho_analytic = 2.0 / se.limit();
+  double rho = rho_analytic, seconds_per_eval = NAN;
+  const bool probe = opt.probe || mesh.num_elements() <= InfoOptions::kProbeElements;
+  if (probe) {
+    CapsuleDynamics dyn(scene, mesh);
+    Points v;
+    dyn.velocity(mesh.vertices, v);  // first call: rotation solve from the reference, FMM set-up
+    Stopwatch clock;
+    dyn.velocity(mesh.vertices, v);
+    seconds_per_eval = clock.seconds();
+    SpectralRadiusEstimator power;
+    const SpectralRadiusEstimator::Result r =
+        power.estimate([&dyn](const Points& x, Points& w) { dyn.velocity(x, w); }, mesh.vertices, v);
+    rho = Rkc::Options{}.rho_margin * r.sigma;
+    fmt::print("spectral radius {:.3e} by power iteration ({} evaluations{}; × {:g} margin), analytic {:.3e} (ratio {:.2f})\n",
+               rho, r.evaluations, r.converged ? "" : ", NOT converged", Rkc::Options{}.rho_margin, rho_analytic,
+               rho / rho_analytic);
+    fmt::print("evaluation      {:.3g} s per right-hand-side evaluation (measured, {} threads)\n", seconds_per_eval,
+               omp_get_max_threads());
+  } else {
+    fmt::print("spectral radius {:.3e} analytic (from the calibrated Heun limit; --probe measures it)\n", rho_analytic);
+  }
+  auto wall = [&](double evals) {
+    return std::isfinite(seconds_per_eval) ? fmt::format(", ~{:.0f} s", evals * seconds_per_eval) : std::string();
+  };
+  fmt::print("time scheme     {}\n", to_string(scene.time.scheme));
+  if (scene.time.scheme == TimeScheme::Heun) {
+    const double dt = scene.time.dt_auto ? scene.time.dt_safety * se.limit() : scene.time.dt;
+    const double steps = std::ceil(scene.time.t_end / dt);
+    fmt::print("time step       {:.3e} ({}), about {:.0f} steps = {:.0f} evaluations to t_end = {:g}{}\n", dt,
+               scene.time.dt_auto ? fmt::format("auto: {:g} × stable dt, recomputed every step", scene.time.dt_safety) : "fixed",
+               steps, 2 * steps, scene.time.t_end, wall(2 * steps));
+  } else if (!scene.time.dt_auto) {
+    const double dt = scene.time.dt, steps = std::ceil(scene.time.t_end / dt);
+    const int s = RkcCoefficients::stages_for(dt * rho);
+    fmt::print("time step       {:.3e} (fixed): {} stages, about {:.0f} steps = {:.0f} evaluations to t_end = {:g}{}\n", dt, s,
+               steps, steps * s, scene.time.t_end, wall(steps * s));
+  } else {
+    // The error-controlled step is not known in advance: the cost at typical steps.
+    fmt::print("time step       error-controlled (tolerance {:g} ℓ); at a step of\n", scene.time.tolerance);
+    for (double tau : {0.01, 0.03, 0.1}) {
+      const int s = RkcCoefficients::stages_for(tau * rho);
+      const double steps = std::ceil(scene.time.t_end / tau);
+      fmt::print("  {:<6g}        {:>3} stages, {:.0f} evaluations to t_end = {:g}{}\n", tau, s, steps * s,
+                 scene.time.t_end, wall(steps * s));
+    }
+  }
   // Measured peak RSS: ≈ 2.4 KB per element with the direct back end (48 MB at 20 480 elements);
   // the FMM operators add a fixed amount per order (≈ 0.46 GB at p = 9, measured).
   fmt::print("memory          ~{:.0f} MB{}\n", 2.4e-3 * static_cast<double>(mesh.num_elements()) + 15,

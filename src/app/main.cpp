@@ -35,6 +35,8 @@ int main(int argc, char** argv) {
   CLI::App* info_cmd = cli.add_subcommand("info", "print the resolved scene, mesh report, back end and stable time step");
   info_cmd->add_option("scene", info.scene_path, "scene file (TOML); default: the built-in default scene");
   info_cmd->add_option("--set", info.overrides, "override a scene key, e.g. --set mesh.level=5");
+  info_cmd->add_flag("--probe", info.probe,
+                     "evaluate the right-hand side (timing, spectral radius) also above 20 480 elements");
 
   capsflow::app::RunCommandOptions run;
   CLI::App* run_cmd = cli.add_subcommand("run", "run a scene (default: the built-in quick scene)");

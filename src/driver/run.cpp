@@ -5,13 +5,16 @@
 
 #include <atomic>
 #include <csignal>
+#include <limits>
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
 #include "capsflow/core/dynamics/heun.hpp"
+#include "capsflow/core/dynamics/rkc.hpp"
 #include "capsflow/core/dynamics/run_health.hpp"
 #include "capsflow/core/dynamics/steady_state.hpp"
+#include "capsflow/core/dynamics/volume_constraint.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/geometry/shape_diagnostics.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
@@ -45,10 +48,33 @@ struct RunState {
   long next_checkpoint = 1;  // index of the next periodic checkpoint
   double volume0 = 0, area0 = 0;
   double wall_seconds_before = 0;  // wall time of earlier (restarted) segments
+  long rejected_steps = 0;         // RKC steps retried with a smaller step (all segments)
+  long rhs_evaluations = 0;        // right-hand-side evaluations of earlier segments
+  long stages_total = 0, stages_max = 0;  // over accepted RKC steps (all segments)
   nlohmann::json extra() const {
     return {{"next_output", next_output}, {"next_checkpoint", next_checkpoint}, {"volume0", volume0},
-            {"area0", area0}, {"wall_seconds", wall_seconds_before}};
+            {"area0", area0}, {"wall_seconds", wall_seconds_before}, {"rejected_steps", rejected_steps},
+            {"rhs_evaluations", rhs_evaluations}, {"stages_total", stages_total}, {"stages_max", stages_max}};
   }
+  void set_extra(const nlohmann::json& e) {
+    next_output = e.at("next_output");
+    next_checkpoint = e.at("next_checkpoint");
+    volume0 = e.at("volume0");
+    area0 = e.at("area0");
+    wall_seconds_before = e.at("wall_seconds");
+    // Written since the RKC integrator (absent in older checkpoints: zero).
+    rejected_steps = e.value("rejected_steps", 0L);
+    rhs_evaluations = e.value("rhs_evaluations", 0L);
+    stages_total = e.value("stages_total", 0L);
+    stages_max = e.value("stages_max", 0L);
+  }
+};
+
+// One attempt at a step, whichever the scheme.
+struct StepOutcome {
+  bool accepted = true;
+  double dt = 0;  // the step taken (or attempted, when rejected)
+  int stages = 0;
 };
 
 class Simulation {
@@ -59,6 +85,9 @@ class Simulation {
  private:
   void setup();
   double next_dt() const;
+  double clip_to_outputs(double dt) const;
+  StepOutcome advance();
+  long rhs_evaluations() const { return st_.rhs_evaluations + dyn_->counters().evaluations; }
   void write_output();
   void write_checkpoint();
   void report_progress(bool force);
@@ -70,13 +99,23 @@ class Simulation {
   Scene scene_;
   SurfaceMesh ref_;
   std::unique_ptr<CapsuleDynamics> dyn_;
-  Heun integrator_;
+  Heun heun_;
+  std::unique_ptr<Rkc> rkc_;
+  Rkc::Rhs rhs_;
+  bool rhs_at_state_ = false;  // the right-hand side was last evaluated at st_.x
+  Points projection_scratch_;
   std::unique_ptr<io::ResultsWriter> out_;
   std::unique_ptr<SteadyStateDetector> steady_;
   std::filesystem::path folder_;
   RunState st_;
   Stopwatch segment_clock_, report_clock_;
   long steps_this_segment_ = 0;
+  int consecutive_rejections_ = 0;
+  double t_segment_start_ = 0;
+  int last_stages_ = 0;
+  // An error test failing this often in a row means the step cannot be resolved (each rejection
+  // shrinks the step by at least 1.25×: 50 of them, by 1e-5 at least).
+  static constexpr int kMaxConsecutiveRejections = 50;
   double last_output_t_ = -1;
   ShapeDiagnostics last_shape_;
   Points x_prev_, v_out_;
@@ -102,6 +141,22 @@ void Simulation::setup() {
   }
   steady_ = std::make_unique<SteadyStateDetector>(scene_.time.steady_tol);
   dyn_ = std::make_unique<CapsuleDynamics>(scene_, ref_, threads_);
+  rhs_ = [this](const Points& x, Points& v) { dyn_->velocity(x, v); };
+  if (scene_.time.scheme == TimeScheme::Rkc) {
+    Rkc::Options ro;
+    ro.tolerance = scene_.time.tolerance;
+    ro.error_control = scene_.time.dt_auto;
+    // The calibrated Heun limit (real stability interval 2) gives the analytic bound used when
+    // the power iteration does not converge.
+    ro.analytic_rho = [this](const Points& x) {
+      return 2.0 / stability_estimate(scene_, min_edge_length(SurfaceMesh{x, ref_.triangles})).limit();
+    };
+    // RKC's large steps add O(τ³) volume error per step that the velocity-level correction
+    // cannot see: project each new state back onto the initial volume.
+    if (scene_.fluid.volume_correction)
+      ro.project = [this](Points& y) { project_volume(y, ref_.triangles, st_.volume0, projection_scratch_); };
+    rkc_ = std::make_unique<Rkc>(ro);
+  }
   if (!opt_.restart.empty()) {
     st_.x = ck.positions;
     st_.t = ck.t;
@@ -110,11 +165,12 @@ void Simulation::setup() {
     dyn_->wall().set_state(ck.wall_state);
     steady_->set_history(ck.history);
     const auto e = nlohmann::json::parse(ck.extra);
-    st_.next_output = e.at("next_output");
-    st_.next_checkpoint = e.at("next_checkpoint");
-    st_.volume0 = e.at("volume0");
-    st_.area0 = e.at("area0");
-    st_.wall_seconds_before = e.at("wall_seconds");
+    st_.set_extra(e);
+    if (rkc_ && e.contains("rkc")) {
+      rkc_->set_scalar_state(e.at("rkc"));
+      rkc_->set_matrix_state(ck.integrator_state);
+      rhs_at_state_ = false;  // F(y_n) is restored, but the wall's last evaluation is the checkpoint's
+    }
     last_output_t_ = st_.t;
   } else {
     st_.x = ref_.vertices;
@@ -144,22 +200,58 @@ double Simulation::next_dt() const {
     const SurfaceMesh cur{st_.x, ref_.triangles};
     dt = scene_.time.dt_safety * stability_estimate(scene_, min_edge_length(cur)).limit();
   }
+  return clip_to_outputs(dt);
+}
+
+double Simulation::clip_to_outputs(double dt) const {
   // Land exactly on output times and t_end.
   const double t_out = st_.next_output * scene_.output.every;
   return std::min({dt, t_out - st_.t, scene_.time.t_end - st_.t});
+}
+
+StepOutcome Simulation::advance() {
+  StepOutcome o;
+  if (!rkc_) {
+    o.dt = next_dt();
+    heun_.step(*dyn_, st_.x, o.dt);
+    o.stages = Heun::evaluations_per_step;
+    rhs_at_state_ = false;  // Heun's last evaluation is at the predictor
+    return o;
+  }
+  const double want = scene_.time.dt_auto ? rkc_->proposed_step(rhs_, st_.x) : scene_.time.dt;
+  // Land on the next output time in equal steps rather than full steps and a sliver: a sliver
+  // costs an evaluation per stage like any step and advances little.
+  const double remaining = clip_to_outputs(std::numeric_limits<double>::infinity());
+  // Up to 20 % above the proposal (its safety factor 0.8 leaves a factor 2 in the error).
+  const double tau = want >= remaining ? remaining : remaining / std::ceil(remaining / (1.2 * want));
+  const Rkc::StepReport r = rkc_->step(rhs_, st_.x, tau);
+  if (std::getenv("CAPSFLOW_TRACE_STEPS"))
+    fmt::print(stderr, "TRACE t {:.5f} tau {:.4e} s {} err {:.3f} acc {} evals {} rho {:.1f}\n", st_.t, r.tau, r.stages, r.error,
+               r.accepted, r.evaluations, rkc_->spectral_radius());
+  o.accepted = r.accepted;
+  o.dt = r.tau;
+  o.stages = r.stages;
+  rhs_at_state_ = r.accepted;  // F(y_{n+1}) is the last evaluation of an accepted step
+  return o;
 }
 
 void Simulation::write_output() {
   const SurfaceMesh cur{st_.x, ref_.triangles};
   last_shape_ = shape_diagnostics(cur);
   const auto& s = last_shape_;
+  // Loads, energies and velocities of the output state itself, not of whatever stage the
+  // integrator evaluated last: RKC's last evaluation is at the new state; otherwise evaluate.
+  if (rhs_at_state_ && rkc_ && rkc_->has_velocity()) {
+    v_out_ = rkc_->velocity();
+  } else {
+    dyn_->velocity(st_.x, v_out_);
+    rhs_at_state_ = true;
+    if (rkc_) rkc_->forget_velocity();  // the warm start moved: recompute F(y_n) (restart-safe)
+  }
   const shell::WallEnergies en = dyn_->wall().energies(st_.x);
   io::NamedFields fields;
-  if (scene_.wants_field(OutputField::Velocity) || scene_.wants_field(OutputField::Load)) {
-    dyn_->velocity(st_.x, v_out_);
-    if (scene_.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out_);
-    if (scene_.wants_field(OutputField::Load)) fields.emplace_back("load", dyn_->load());
-  }
+  if (scene_.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out_);
+  if (scene_.wants_field(OutputField::Load)) fields.emplace_back("load", dyn_->load());
   if (scene_.wants_field(OutputField::Energy)) {
     Eigen::VectorXd Em, Eb, Esh;
     dyn_->wall().nodal_energy_maps(st_.x, Em, Eb, Esh);
@@ -218,7 +310,13 @@ void Simulation::write_checkpoint() {
   ck.version = fmt::format("{} ({})", version_string(), git_hash());
   RunState s = st_;
   s.wall_seconds_before = wall_seconds();
-  ck.extra = s.extra().dump();
+  s.rhs_evaluations = rhs_evaluations();
+  nlohmann::json extra = s.extra();
+  if (rkc_) {
+    extra["rkc"] = rkc_->scalar_state();
+    ck.integrator_state = rkc_->matrix_state();
+  }
+  ck.extra = extra.dump();
   io::write_checkpoint(folder_ / io::kCheckpointFile, ck);
 }
 
@@ -226,12 +324,17 @@ void Simulation::report_progress(bool force) {
   if (!force && report_clock_.seconds() < opt_.progress_interval) return;
   report_clock_.restart();
   const double seg = segment_clock_.seconds();
-  const double per_step = steps_this_segment_ ? seg / static_cast<double>(steps_this_segment_) : 0;
+  const long evals = dyn_->counters().evaluations;
+  const double per_eval = evals ? seg / static_cast<double>(evals) : 0;
   const double t_end = scene_.time.t_end;
-  const double eta = st_.dt > 0 ? per_step * (t_end - st_.t) / st_.dt : NAN;
+  // ETA from the simulated time per wall second of this segment (RKC's step varies).
+  const double done = st_.t - t_segment_start_;
+  const double eta = done > 0 ? seg * (t_end - st_.t) / done : NAN;
   const SurfaceMesh cur{st_.x, ref_.triangles};
-  spdlog::info("step {:>7}  t {:.4f}/{:g} ({:5.1f}%)  dt {:.2e}  {:.1f} ms/step  ETA {}  dV/V {:+.1e}  steady {:.1e} (tol {:.0e})",
-               st_.step, st_.t, t_end, 100 * st_.t / t_end, st_.dt, 1e3 * per_step, hms(eta),
+  const std::string scheme =
+      rkc_ ? fmt::format("rkc s {:>3} rej {:>3}", last_stages_, st_.rejected_steps) : std::string("heun");
+  spdlog::info("step {:>7}  t {:.4f}/{:g} ({:5.1f}%)  dt {:.2e}  {}  evals {:>7} ({:.1f} ms)  ETA {}  dV/V {:+.1e}  steady {:.1e} (tol {:.0e})",
+               st_.step, st_.t, t_end, 100 * st_.t / t_end, st_.dt, scheme, rhs_evaluations(), 1e3 * per_eval, hms(eta),
                enclosed_volume(cur) / st_.volume0 - 1, steady_->measure(), scene_.time.steady_tol);
 }
 
@@ -249,10 +352,12 @@ nlohmann::json Simulation::timing_table() const {
     known += p[ph];
   }
   phases[kPhaseNames[static_cast<std::size_t>(Phase::Other)]] = std::max(0.0, total - known);
-  return {{"total_seconds", total}, {"steps", steps_this_segment_}, {"stages", n.evaluations},
+  return {{"total_seconds", total}, {"steps", steps_this_segment_}, {"rhs_evaluations", n.evaluations},
+          {"seconds_per_evaluation", n.evaluations ? total / static_cast<double>(n.evaluations) : 0},
           {"seconds_per_step", steps_this_segment_ ? total / static_cast<double>(steps_this_segment_) : 0},
           {"phases", phases},
-          {"iterations", {{"newton", n.newton_iterations}, {"rotation_cg", n.cg_iterations}, {"mass_cg", n.mass_cg_iterations}}}};
+          {"iterations", {{"newton", n.newton_iterations}, {"rotation_cg", n.cg_iterations}, {"mass_cg", n.mass_cg_iterations},
+                          {"rotation_fresh_starts", n.rotation_fresh_starts}}}};
 }
 
 void Simulation::finish(const std::string& stop_reason) {
@@ -268,10 +373,23 @@ void Simulation::finish(const std::string& stop_reason) {
       {"backend", to_string(dyn_->single_layer().backend())}, {"backend_reason", dyn_->single_layer().backend_reason()},
       {"fmm_order", dyn_->single_layer().fmm_order()}, {"threads", threads_},
       {"steady_measure", steady_->measure()}, {"timing", timing}, {"scene", to_json(scene_)},
-      {"version", version_string()}, {"git", git_hash()}};
+      {"version", version_string()}, {"git", git_hash()},
+      {"scheme", to_string(scene_.time.scheme)}, {"rhs_evaluations", rhs_evaluations()},
+      {"rejected_steps", st_.rejected_steps}};
+  if (rkc_) {
+    const long accepted = st_.step;  // every counted step of an RKC run is an accepted one
+    summary["spectral_radius"] = rkc_->spectral_radius();
+    // What the calibrated Heun constant implies at the final shape (real interval 2): the power
+    // iteration is expected to see more on shapes the constant was not calibrated for.
+    summary["spectral_radius_analytic"] = rkc_->options().analytic_rho(st_.x);
+    summary["stages_max"] = st_.stages_max;
+    summary["stages_mean"] = accepted > 0 ? static_cast<double>(st_.stages_total) / static_cast<double>(accepted) : 0.0;
+    summary["spectral_radius_evaluations"] = rkc_->rho_evaluations();
+  }
   out_->write_summary(summary);
   const auto& ph = timing["phases"];
-  spdlog::info("stopped: {} at t = {:g} after {} steps, {:.1f} s", stop_reason, st_.t, st_.step, wall_seconds());
+  spdlog::info("stopped: {} at t = {:g} after {} steps ({} rejected), {} right-hand-side evaluations, {:.1f} s", stop_reason,
+               st_.t, st_.step, st_.rejected_steps, rhs_evaluations(), wall_seconds());
   spdlog::info("phase                       seconds   share");
   const double total = timing["total_seconds"].get<double>();
   for (const auto& [k, v] : ph.items())
@@ -292,6 +410,7 @@ int Simulation::run() {
 
   if (opt_.restart.empty()) write_output();
   else last_shape_ = shape_diagnostics(SurfaceMesh{st_.x, ref_.triangles});
+  t_segment_start_ = st_.t;
   std::string stop = "t_end";
   const double eps = 1e-12 * std::max(1.0, scene_.time.t_end);
   while (st_.t < scene_.time.t_end - eps) {
@@ -300,17 +419,47 @@ int Simulation::run() {
       stop = "interrupted";
       break;
     }
-    st_.dt = next_dt();
     const double t_out = st_.next_output * scene_.output.every;
     x_prev_ = st_.x;
     wall_prev_ = dyn_->wall().state();  // to roll back a blown-up step
-    integrator_.step(*dyn_, st_.x, st_.dt);
+    auto roll_back = [this] {
+      st_.x = x_prev_;
+      dyn_->wall().set_state(wall_prev_);
+      if (rkc_) rkc_->forget_velocity();  // F(y_n) may belong to the discarded state
+      rhs_at_state_ = false;
+    };
+    StepOutcome o;
+    try {
+      o = advance();
+    } catch (const SolverFailure& e) {
+      stop = fmt::format("solver_failure: {} at t = {:g}", e.what(), st_.t);
+      spdlog::error("{}; keeping the last healthy state", stop);
+      roll_back();
+      break;
+    }
+    if (!o.accepted) {
+      // RKC's error test failed: the state is unchanged; retry with the controller's smaller step.
+      ++st_.rejected_steps;
+      if (++consecutive_rejections_ > kMaxConsecutiveRejections) {
+        stop = fmt::format("no_progress: {} consecutive rejected steps at t = {:g} (last step {:.3g})",
+                           consecutive_rejections_, st_.t, o.dt);
+        spdlog::error("{}", stop);
+        break;
+      }
+      continue;
+    }
+    consecutive_rejections_ = 0;
+    st_.dt = o.dt;
+    if (rkc_) {
+      st_.stages_total += o.stages;
+      st_.stages_max = std::max<long>(st_.stages_max, o.stages);
+      last_stages_ = o.stages;
+    }
     const std::string problem = check_health(SurfaceMesh{x_prev_, ref_.triangles}, st_.x, st_.volume0);
     if (!problem.empty()) {
       spdlog::error("blow-up at step {} (t = {:g}, dt = {:.3g}): {}; keeping the last healthy state", st_.step + 1, st_.t + st_.dt,
                     st_.dt, problem);
-      st_.x = x_prev_;
-      dyn_->wall().set_state(wall_prev_);
+      roll_back();
       stop = "blow_up";
       break;
     }
@@ -336,7 +485,7 @@ int Simulation::run() {
   write_checkpoint();
   report_progress(true);
   finish(stop);
-  if (stop == "blow_up") return 3;
+  if (stop == "blow_up" || stop.rfind("solver_failure", 0) == 0 || stop.rfind("no_progress", 0) == 0) return 3;
   if (stop == "interrupted") return 130;
   return 0;
 }

@@ -1,5 +1,8 @@
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
 
+#include <fmt/core.h>
+
+#include "capsflow/core/dynamics/volume_constraint.hpp"
 #include "capsflow/core/dynamics/wall_factory.hpp"
 
 namespace capsflow {
@@ -15,11 +18,12 @@ SingleLayerOptions bie_options(const Scene& s, int threads) {
 }
 }  // namespace
 
-CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& reference, int threads)
+CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& reference, int threads,
+                                 std::unique_ptr<shell::Wall> wall)
     : L_(scene.flow.gradient),
       volume_correction_(scene.fluid.volume_correction),
       tri_(reference.triangles),
-      wall_(make_wall(scene, reference)),
+      wall_(wall ? std::move(wall) : make_wall(scene, reference)),
       mass_(reference.triangles, reference.num_nodes()),
       bie_(reference.triangles, reference.num_nodes(), bie_options(scene, threads)) {}
 
@@ -31,39 +35,39 @@ PhaseTimes CapsuleDynamics::times() const {
 
 void CapsuleDynamics::velocity(const Points& x, Points& v) {
   Stopwatch clock;
-  wall_->forces(x, R_, &last_stats_);
+  for (int attempt = 0;; ++attempt) {
+    wall_->forces(x, R_, &last_stats_);
+    counters_.newton_iterations += last_stats_.newton_iterations;
+    counters_.cg_iterations += last_stats_.cg_iterations;
+    if (last_stats_.converged) break;
+    if (attempt == 1) {
+      clock.lap(times_, Phase::Wall);
+      throw SolverFailure(fmt::format("rotation Newton did not converge (residual {:.1e} rad after {} iterations, "
+                                      "also from a fresh start)", last_stats_.residual, last_stats_.newton_iterations));
+    }
+    ++counters_.rotation_fresh_starts;
+    wall_->restart_rotations(x);
+  }
   clock.lap(times_, Phase::Wall);
-  counters_.newton_iterations += last_stats_.newton_iterations;
-  counters_.cg_iterations += last_stats_.cg_iterations;
 
   counters_.mass_cg_iterations += mass_.solve(x, R_, q_);
   clock.lap(times_, Phase::Load);
+  if (!mass_.last_converged())
+    throw SolverFailure(fmt::format("mass-matrix CG stopped at its iteration cap ({} iterations, relative residual {:.1e})",
+                                    shell::LoadRecovery::kMaxIterations, mass_.last_relative_residual()));
 
   bie_.apply(x, q_, u_);
 
   clock.restart();
   v.noalias() = x * L_.transpose() - u_;  // v = v∞ − S[q], v∞ = L x (paper Eq. 34)
-  if (volume_correction_) remove_mean_normal_velocity(x, v);
+  if (volume_correction_) {
+    volume_gradient(x, tri_, nodal_area_normal_);
+    remove_normal_flux(nodal_area_normal_, v);
+  }
   clock.lap(times_, Phase::Other);
   ++counters_.evaluations;
+  if (!v.allFinite()) throw SolverFailure("non-finite velocity");
 }
 
-void CapsuleDynamics::remove_mean_normal_velocity(const Points& x, Points& v) {
-  // ∂V/∂x_i = Σ_{e∋i} A_e n_e / 3 =: a_i, so dV/dt = Σ_i a_i·v_i. Subtract c·a_i/|a_i| with
-  // c = (Σ a_i·v_i) / (Σ |a_i|): zero flux afterwards, and a uniform normal speed correction.
-  nodal_area_normal_.setZero(x.rows(), 3);
-  for (Eigen::Index e = 0; e < tri_.rows(); ++e) {
-    const int a = tri_(e, 0), b = tri_(e, 1), c = tri_(e, 2);
-    const Eigen::RowVector3d an = (x.row(b) - x.row(a)).cross(x.row(c) - x.row(a)) / 6.0;  // A_e n_e / 3
-    nodal_area_normal_.row(a) += an, nodal_area_normal_.row(b) += an, nodal_area_normal_.row(c) += an;
-  }
-  double flux = 0, weight = 0;
-  for (Eigen::Index i = 0; i < x.rows(); ++i) {
-    flux += nodal_area_normal_.row(i).dot(v.row(i));
-    weight += nodal_area_normal_.row(i).norm();
-  }
-  const double c = flux / weight;
-  for (Eigen::Index i = 0; i < x.rows(); ++i) v.row(i) -= c * nodal_area_normal_.row(i).normalized();
-}
 
 }  // namespace capsflow

@@ -20,7 +20,7 @@ const std::map<std::string, std::set<std::string>>& schema() {
       {"mesh", {"base", "level", "shape", "aspect", "axis", "file"}},
       {"wall", {"model", "law", "thickness", "poisson", "skalak_c"}},
       {"flow", {"type", "ca_v", "ca_s", "gradient"}},
-      {"time", {"dt", "dt_safety", "t_end", "stop_at_steady", "steady_tol"}},
+      {"time", {"scheme", "tolerance", "dt", "dt_safety", "t_end", "stop_at_steady", "steady_tol"}},
       {"fluid", {"backend", "tolerance", "geometry", "volume_correction"}},
       {"output", {"every", "fields", "checkpoint_every"}},
   };
@@ -317,6 +317,9 @@ Scene parse_scene(const std::string& toml_text, const std::string& name, const s
   }
 
   auto& t = sc.time;
+  r.get_choice("time", "scheme", t.scheme);
+  r.get("time", "tolerance", t.tolerance);
+  r.require(t.tolerance >= 1e-9 && t.tolerance <= 1e-1, "time", "tolerance", "must be in [1e-9, 1e-1] (units of ℓ)");
   if (const toml::node* n = r.find("time", "dt")) {
     if (n->is_string()) {
       if (n->as_string()->get() != "auto") r.fail("time.dt", n, "expected a positive number or \"auto\"");
@@ -372,7 +375,8 @@ nlohmann::json to_json(const Scene& s) {
   j["wall"] = {{"model", to_string(s.wall.model)}, {"law", shell::to_string(s.wall.law)}, {"thickness", s.wall.thickness},
                {"poisson", s.wall.poisson}, {"skalak_c", s.wall.skalak_c}};
   j["flow"] = {{"type", to_string(s.flow.type)}, {"ca_s", s.flow.ca_s}, {"ca_v", s.flow.ca_v}, {"gradient", g}};
-  j["time"] = {{"dt", s.time.dt_auto ? nlohmann::json("auto") : nlohmann::json(s.time.dt)},
+  j["time"] = {{"scheme", to_string(s.time.scheme)}, {"tolerance", s.time.tolerance},
+               {"dt", s.time.dt_auto ? nlohmann::json("auto") : nlohmann::json(s.time.dt)},
                {"dt_safety", s.time.dt_safety}, {"t_end", s.time.t_end},
                {"stop_at_steady", s.time.stop_at_steady}, {"steady_tol", s.time.steady_tol}};
   j["fluid"] = {{"backend", to_string(s.fluid.backend)}, {"tolerance", s.fluid.tolerance}, {"geometry", to_string(s.fluid.geometry)}, {"volume_correction", s.fluid.volume_correction}};
@@ -396,8 +400,8 @@ std::string to_toml(const Scene& s) {
     out += fmt::format("gradient = [[{}, {}, {}], [{}, {}, {}], [{}, {}, {}]]\n", g(0, 0), g(0, 1), g(0, 2), g(1, 0), g(1, 1),
                        g(1, 2), g(2, 0), g(2, 1), g(2, 2));
   }
-  out += fmt::format("\n[time]\ndt = {}\ndt_safety = {}\nt_end = {}\nstop_at_steady = {}\nsteady_tol = {}\n",
-                     s.time.dt_auto ? q("auto") : fmt::format("{}", s.time.dt), s.time.dt_safety, s.time.t_end,
+  out += fmt::format("\n[time]\nscheme = {}\ntolerance = {}\ndt = {}\ndt_safety = {}\nt_end = {}\nstop_at_steady = {}\nsteady_tol = {}\n",
+                     q(to_string(s.time.scheme)), s.time.tolerance, s.time.dt_auto ? q("auto") : fmt::format("{}", s.time.dt), s.time.dt_safety, s.time.t_end,
                      s.time.stop_at_steady, s.time.steady_tol);
   out += fmt::format("\n[fluid]\nbackend = {}\ntolerance = {}\ngeometry = {}\nvolume_correction = {}\n", q(to_string(s.fluid.backend)),
                      s.fluid.tolerance, q(to_string(s.fluid.geometry)), s.fluid.volume_correction);

@@ -7,6 +7,7 @@
 
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
 #include "capsflow/core/dynamics/heun.hpp"
+#include "capsflow/shell/wall.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/geometry/shape_diagnostics.hpp"
 #include "capsflow/core/dynamics/stability.hpp"
@@ -144,4 +145,36 @@ TEST(Dynamics, VolumeCorrectionRemovesDiscreteFluxDrift) {
   }
   EXPECT_GT(drift[0], 1e-4);  // measured ≈ 2e-3 at this coarse level: the effect exists
   EXPECT_LT(drift[1], 1e-7);  // 100 steps × O(dt³ · |v|³/ℓ²) round-off-level terms
+}
+
+namespace {
+// A wall whose rotation solve never converges (as a stage far from the warm start might): the
+// right-hand side must retry once from a fresh start and then refuse, never return its forces.
+class NeverConvergingWall : public shell::MembraneWall {
+ public:
+  using shell::MembraneWall::MembraneWall;
+  void forces(const Points& x, Points& R_s, shell::WallStats* stats) override {
+    shell::MembraneWall::forces(x, R_s, stats);
+    if (stats) stats->converged = false, stats->residual = 1.0, stats->newton_iterations = 20;
+  }
+  void restart_rotations(const Points&) override { ++restarts; }
+  int restarts = 0;
+};
+}  // namespace
+
+TEST(Dynamics, UnconvergedRotationSolveIsRetriedFromAFreshStartThenReported) {
+  const Scene s = scene_with({"mesh.level=1"});
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  auto wall = std::make_unique<NeverConvergingWall>(ref.vertices, ref.triangles, shell::make_law("nh", 10.0));
+  NeverConvergingWall* w = wall.get();
+  CapsuleDynamics dyn(s, ref, 1, std::move(wall));
+  Points v;
+  try {
+    dyn.velocity(ref.vertices, v);
+    FAIL() << "an unconverged rotation solve must not return a velocity";
+  } catch (const SolverFailure& e) {
+    EXPECT_NE(std::string(e.what()).find("rotation Newton did not converge"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(w->restarts, 1);                               // one fresh start, then the failure
+  EXPECT_EQ(dyn.counters().rotation_fresh_starts, 1);      // and it is counted
 }

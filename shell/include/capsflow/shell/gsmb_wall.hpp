@@ -56,6 +56,7 @@ class GsmbWall : public Wall {
   /// [d (3N), t1 (3N), t2 (3N), facet normals of the last solve (3N)] node by node.
   Eigen::VectorXd state() const override;
   void set_state(const Eigen::VectorXd& s) override;
+  void restart_rotations(const Points& x) override;
 
   // ---- lower-level access (tests, forward static mode, diagnostics) ----
   /// Rotation solve only (positions fixed); leaves R_s of the final state in the internal buffer.

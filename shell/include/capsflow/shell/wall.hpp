@@ -30,6 +30,9 @@ class Wall {
   /// Everything needed to restart bit-for-bit (GSMB: directors and triads; membrane: empty).
   virtual Eigen::VectorXd state() const = 0;
   virtual void set_state(const Eigen::VectorXd&) = 0;
+  /// Forget the warm start: the next forces() solves the rotations from the nodal normals of x
+  /// (for a stage state far from the previous one, where the warm start can defeat Newton).
+  virtual void restart_rotations(const Points& x) { (void)x; }
 };
 
 /// Membrane-only wall (paper §2.3.3): no rotations; R_s = d/dx sum_e A0 W_s.

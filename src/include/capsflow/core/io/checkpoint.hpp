@@ -12,7 +12,8 @@
 //                      checksum (FNV-1a 64 of the whole state, hex; verified on read)
 //   datasets: positions [N,3], reference_positions [N,3], triangles int32 [M,3],
 //             wall_state [n] (opaque), history [r,c] (opaque), scene_toml, scene_resolved,
-//             extra (strings)
+//             extra (strings); integrator_state [r,c] (opaque; optional: absent in files written
+//             before it existed, which read as empty, and left out of the checksum when empty)
 // Doubles are stored as float64 and read back bit for bit.
 #include <Eigen/Core>
 #include <cstdint>
@@ -35,6 +36,7 @@ struct CheckpointState {
   Triangles triangles;         // M×3, indices into the nodes
   Eigen::VectorXd wall_state;  // opaque to io (e.g. nodal directors); any length, may be empty
   Eigen::MatrixXd history;     // opaque to io (e.g. steady-state window samples); may be empty
+  Eigen::MatrixXd integrator_state;  // opaque to io (e.g. RKC's F(y_n)); may be empty
   std::string scene_toml;      // the input scene, verbatim
   std::string scene_resolved;  // the fully resolved scene, JSON text
   std::string version;         // capsflow version + git hash that wrote it

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "capsflow/core/bie/backend_choice.hpp"
+#include "capsflow/core/dynamics/time_scheme.hpp"
 #include "capsflow/core/mesh/generation.hpp"
 #include "capsflow/core/scene/options.hpp"
 #include "capsflow/core/types.hpp"
@@ -46,7 +47,9 @@ struct FlowSpec {
 };
 
 struct TimeSpec {
-  bool dt_auto = true;
+  TimeScheme scheme = TimeScheme::Heun;
+  double tolerance = 5e-5;       // RKC local error per step (RMS over nodes, units of ℓ; dynamics/rkc.hpp)
+  bool dt_auto = true;           // RKC: error-controlled step; Heun: the stability-limited step
   double dt = 0;                 // fixed step (when !dt_auto)
   double dt_safety = 0.7;        // fraction of the (calibrated) stability limit used by dt = "auto"
   double t_end = 5.0;

@@ -1,0 +1,32 @@
+#pragma once
+// Spectral radius of the Jacobian of the right-hand side, by a nonlinear power iteration on
+// right-hand-side differences (the approach of RKC, Sommeijer, Shampine & Verwer 1998):
+//   w ← F(y + δ ŵ) − F(y),   σ = |w| / δ,   until σ changes by less than `rel_tol`,
+// with δ = √ε |y| so that the difference quotient sees the linearisation. Warm-started from the
+// last direction, so a refresh costs a few evaluations. The capsule problem's Jacobian −S K has
+// real non-positive eigenvalues up to the O(γ̇) flow terms (docs/time-integration.md §5.7), so the
+// dominant mode is the stiffest elastic mode and the iteration converges to it.
+#include <functional>
+
+#include "capsflow/core/types.hpp"
+
+namespace capsflow {
+
+class SpectralRadiusEstimator {
+ public:
+  using Rhs = std::function<void(const Points& x, Points& v)>;
+  struct Result {
+    double sigma = 0;      // |λ_max| estimate (no safety margin)
+    int evaluations = 0;
+    bool converged = false;
+  };
+  // fy = F(y) must be given. max_iter bounds the evaluations.
+  Result estimate(const Rhs& f, const Points& y, const Points& fy, int max_iter = 50, double rel_tol = 0.01);
+  const Points& direction() const { return dir_; }
+  void set_direction(const Points& d) { dir_ = d; }
+
+ private:
+  Points dir_, yv_, fv_;  // last direction; scratch
+};
+
+}  // namespace capsflow
