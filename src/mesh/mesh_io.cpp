@@ -368,6 +368,7 @@ void write_mesh(const SurfaceMesh& mesh, const std::string& path) {
     out << mesh.vertices(i, 0) << ' ' << mesh.vertices(i, 1) << ' ' << mesh.vertices(i, 2) << '\n';
   for (Eigen::Index e = 0; e < mesh.num_elements(); ++e)
     out << "3 " << mesh.triangles(e, 0) << ' ' << mesh.triangles(e, 1) << ' ' << mesh.triangles(e, 2) << '\n';
+  out.close();  // a full disk shows at the final flush
   if (!out) fail(path, "write failed");
 }
 
