@@ -8,6 +8,8 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "capsflow/core/driver/restart_rules.hpp"
+#include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
 #include "capsflow/core/dynamics/heun.hpp"
 #include "capsflow/core/dynamics/run_health.hpp"
@@ -18,6 +20,7 @@
 #include "capsflow/core/io/h5.hpp"
 #include "capsflow/core/io/output_folder.hpp"
 #include "capsflow/core/io/results_writer.hpp"
+#include "capsflow/core/io/run_identity.hpp"
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/geometry/profiles.hpp"
 #include "capsflow/core/dynamics/stability.hpp"
@@ -28,10 +31,13 @@ namespace capsflow {
 namespace {
 
 std::atomic<int> g_signal{0};
-extern "C" void on_signal(int sig) { g_signal = sig; }
+extern "C" void on_signal(int sig) {
+  g_signal = sig;
+  std::signal(sig, SIG_DFL);  // a second Ctrl-C stops at once, without the checkpoint
+}
 
 std::string hms(double s) {
-  if (!std::isfinite(s)) return "?";
+  if (!std::isfinite(s) || s > 1e9) return "?";
   const long t = static_cast<long>(s + 0.5);
   return t >= 3600 ? fmt::format("{}h{:02}m", t / 3600, (t / 60) % 60) : fmt::format("{}m{:02}s", t / 60, t % 60);
 }
@@ -82,6 +88,9 @@ class Simulation {
   Points x_prev_, v_out_;
   Eigen::VectorXd wall_prev_;
   int threads_ = 1;
+  std::string run_id_, mesh_hash_;
+  RestartPlan restart_;  // restart_.new_folder: a new run folder started from the checkpoint
+  std::filesystem::path checkpoint_path_;  // the checkpoint actually read (after a fallback: the previous one)
 };
 
 void Simulation::setup() {
@@ -89,17 +98,30 @@ void Simulation::setup() {
   threads_ = omp_get_max_threads();
   io::CheckpointState ck;
   if (!opt_.restart.empty()) {
-    ck = io::read_checkpoint(opt_.restart);
-    scene_ = parse_scene(ck.scene_toml, opt_.restart + " (scene)", opt_.restart_overrides);
-    folder_ = opt_.output_dir.empty() ? std::filesystem::path(opt_.restart).parent_path() : std::filesystem::path(opt_.output_dir);
-    io::open_output_folder_for_restart(folder_);
+    io::LoadedCheckpoint loaded = io::load_checkpoint_for_restart(opt_.restart);
+    if (!loaded.fallback_reason.empty())
+      spdlog::warn("{}; continuing from the previous checkpoint {} (t = {:g})", loaded.fallback_reason, loaded.path.string(),
+                   loaded.state.t);
+    ck = std::move(loaded.state);
+    checkpoint_path_ = loaded.path;
+    restart_ = plan_restart(ck, loaded.path, opt_.restart_overrides, opt_.output_dir);  // refuses before any write
+    scene_ = restart_.scene;
+    folder_ = restart_.folder;
+    if (restart_.new_folder) io::prepare_output_folder(folder_, false);
+    else io::open_output_folder_for_restart(folder_);
     ref_ = SurfaceMesh{ck.reference_positions, ck.triangles};
+    run_id_ = restart_.run_id;
   } else {
     scene_ = opt_.scene;
     folder_ = opt_.output_dir;
     ref_ = make_reference_mesh(scene_.mesh);  // validates a user mesh before touching the folder
-    io::prepare_output_folder(folder_, opt_.overwrite);
+    const io::PreparedFolder prepared = io::prepare_output_folder(folder_, opt_.overwrite);
+    if (!prepared.kept.empty())
+      spdlog::info("output folder: kept {} entries capsflow did not write (first: {})", prepared.kept.size(),
+                   prepared.kept.front().filename().string());
+    run_id_ = io::new_run_id();
   }
+  mesh_hash_ = io::mesh_hash(ref_.vertices, ref_.triangles);
   steady_ = std::make_unique<SteadyStateDetector>(scene_.time.steady_tol);
   dyn_ = std::make_unique<CapsuleDynamics>(scene_, ref_, threads_);
   if (!opt_.restart.empty()) {
@@ -110,8 +132,10 @@ void Simulation::setup() {
     dyn_->wall().set_state(ck.wall_state);
     steady_->set_history(ck.history);
     const auto e = nlohmann::json::parse(ck.extra);
-    st_.next_output = e.at("next_output");
-    st_.next_checkpoint = e.at("next_checkpoint");
+    const Scene stored = parse_scene(ck.scene_toml, "checkpoint");
+    st_.next_output = restart_index(e.at("next_output").get<std::int64_t>(), stored.output.every, scene_.output.every, st_.t);
+    st_.next_checkpoint = restart_index(e.at("next_checkpoint").get<std::int64_t>(), stored.output.checkpoint_every,
+                                        scene_.output.checkpoint_every, st_.t);
     st_.volume0 = e.at("volume0");
     st_.area0 = e.at("area0");
     st_.wall_seconds_before = e.at("wall_seconds");
@@ -128,7 +152,14 @@ void Simulation::setup() {
                          {"backend", to_string(dyn_->single_layer().backend())},
                          {"backend_reason", dyn_->single_layer().backend_reason()},
                          {"fmm_order", dyn_->single_layer().fmm_order()}};
-  out_ = opt_.restart.empty() ? std::make_unique<io::ResultsWriter>(folder_, ref_, meta)
+  meta["run_id"] = run_id_;
+  meta["mesh_hash"] = mesh_hash_;
+  if (restart_.new_folder) {
+    meta["parent_run_id"] = restart_.parent_run_id;
+    meta["parent_checkpoint"] = std::filesystem::absolute(checkpoint_path_).lexically_normal().string();
+    meta["t_start"] = st_.t;
+  }
+  out_ = opt_.restart.empty() || restart_.new_folder ? std::make_unique<io::ResultsWriter>(folder_, ref_, meta)
                               : std::make_unique<io::ResultsWriter>(io::ResultsWriter::reopen(folder_, st_.t, meta));
   spdlog::info("capsflow {} (git {}), {} threads", version_string(), git_hash(), threads_);
   spdlog::info("scene {}: {} elements, {} nodes, wall {} {}, flow {}, Ca_s = {:g}", scene_.source, ref_.num_elements(),
@@ -136,6 +167,8 @@ void Simulation::setup() {
                scene_.flow.ca_s);
   spdlog::info("boundary integral: {} ({})", to_string(dyn_->single_layer().backend()), dyn_->single_layer().backend_reason());
   spdlog::info("output: {}{}", folder_.string(), opt_.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st_.t));
+  if (restart_.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path_.string());
+  if (const std::string note = capillary_note(scene_); !note.empty()) spdlog::info("note: {}", note);
 }
 
 double Simulation::next_dt() const {
@@ -219,6 +252,7 @@ void Simulation::write_checkpoint() {
   RunState s = st_;
   s.wall_seconds_before = wall_seconds();
   ck.extra = s.extra().dump();
+  ck.run_id = run_id_;
   io::write_checkpoint(folder_ / io::kCheckpointFile, ck);
 }
 
@@ -269,6 +303,8 @@ void Simulation::finish(const std::string& stop_reason) {
       {"fmm_order", dyn_->single_layer().fmm_order()}, {"threads", threads_},
       {"steady_measure", steady_->measure()}, {"timing", timing}, {"scene", to_json(scene_)},
       {"version", version_string()}, {"git", git_hash()}};
+  summary["run_id"] = run_id_;
+  summary["mesh_hash"] = mesh_hash_;
   out_->write_summary(summary);
   const auto& ph = timing["phases"];
   spdlog::info("stopped: {} at t = {:g} after {} steps, {:.1f} s", stop_reason, st_.t, st_.step, wall_seconds());
@@ -290,17 +326,22 @@ int Simulation::run() {
     ~Restore() { std::signal(SIGINT, i), std::signal(SIGTERM, t); }
   } restore{old_int, old_term};
 
-  if (opt_.restart.empty()) write_output();
+  if (opt_.restart.empty() || restart_.new_folder) write_output();
   else last_shape_ = shape_diagnostics(SurfaceMesh{st_.x, ref_.triangles});
   std::string stop = "t_end";
-  const double eps = 1e-12 * std::max(1.0, scene_.time.t_end);
-  while (st_.t < scene_.time.t_end - eps) {
+  while (!time_reached(st_.t, scene_.time.t_end, st_.dt)) {
     if (g_signal) {
       spdlog::warn("signal {} received: writing a checkpoint and stopping", static_cast<int>(g_signal));
       stop = "interrupted";
       break;
     }
-    st_.dt = next_dt();
+    const double dt = next_dt();
+    if (!step_makes_progress(st_.t, dt)) {
+      spdlog::error("no progress at step {} (t = {:g}): the time step {:g} does not advance t; stopping", st_.step + 1, st_.t, dt);
+      stop = "no_progress";
+      break;
+    }
+    st_.dt = dt;
     const double t_out = st_.next_output * scene_.output.every;
     x_prev_ = st_.x;
     wall_prev_ = dyn_->wall().state();  // to roll back a blown-up step
@@ -314,17 +355,18 @@ int Simulation::run() {
       stop = "blow_up";
       break;
     }
-    st_.t = std::abs(st_.t + st_.dt - t_out) <= eps ? t_out : st_.t + st_.dt;
+    st_.t = advance_time(st_.t, st_.dt, std::min(t_out, scene_.time.t_end));
     ++st_.step;
     ++steps_this_segment_;
     steady_->add(st_.t, surface_area(SurfaceMesh{st_.x, ref_.triangles}));
-    if (st_.t >= t_out - eps) {
+    if (time_reached(st_.t, t_out, st_.dt)) {
       write_output();
       ++st_.next_output;
     }
-    if (scene_.output.checkpoint_every > 0 && st_.t >= st_.next_checkpoint * scene_.output.checkpoint_every - eps) {
+    if (scene_.output.checkpoint_every > 0 &&
+        time_reached(st_.t, static_cast<double>(st_.next_checkpoint) * scene_.output.checkpoint_every, st_.dt)) {
       write_checkpoint();
-      while (st_.next_checkpoint * scene_.output.checkpoint_every <= st_.t + eps) ++st_.next_checkpoint;
+      st_.next_checkpoint = next_index_after(st_.t, scene_.output.checkpoint_every, st_.next_checkpoint, st_.dt);
     }
     report_progress(false);
     if (scene_.time.stop_at_steady && steady_->steady()) {
@@ -336,7 +378,7 @@ int Simulation::run() {
   write_checkpoint();
   report_progress(true);
   finish(stop);
-  if (stop == "blow_up") return 3;
+  if (stop == "blow_up" || stop == "no_progress") return 3;
   if (stop == "interrupted") return 130;
   return 0;
 }
