@@ -108,7 +108,8 @@ void Simulation::setup() {
     scene_ = restart_.scene;
     folder_ = restart_.folder;
     if (restart_.new_folder) io::prepare_output_folder(folder_, false);
-    else io::open_output_folder_for_restart(folder_);
+    else if (const auto removed = io::open_output_folder_for_restart(folder_).removed; !removed.empty())
+      spdlog::info("removed {} temporaries left by killed runs (first: {})", removed.size(), removed.front().filename().string());
     ref_ = SurfaceMesh{ck.reference_positions, ck.triangles};
     run_id_ = restart_.run_id;
   } else {

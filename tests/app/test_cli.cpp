@@ -319,8 +319,11 @@ TEST(Cli, AFullDiskIsAOneLineErrorWithExitCode1NotACrash) {
     EXPECT_EQ(err.rfind("capsflow: error: ", 0), 0u) << err;
     EXPECT_NE(err.find("File too large"), std::string::npos) << err;
     // Whatever checkpoint made it to disk is complete: a damaged one is never renamed into place.
-    for (const char* ck : {"checkpoint.h5", "checkpoint.prev.h5"})
-      if (fs::exists(out / ck)) EXPECT_NO_THROW(capsflow::io::read_checkpoint(out / ck)) << blocks << " " << ck;
+    for (const char* ck : {"checkpoint.h5", "checkpoint.prev.h5"}) {
+      if (fs::exists(out / ck)) {
+        EXPECT_NO_THROW(capsflow::io::read_checkpoint(out / ck)) << blocks << " " << ck;
+      }
+    }
   }
 }
 
