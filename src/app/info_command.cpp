@@ -11,6 +11,7 @@
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/dynamics/stability.hpp"
+#include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
 #include "capsflow/core/dynamics/rkc.hpp"
 #include "capsflow/core/phase_times.hpp"
@@ -22,6 +23,7 @@ int info_command(const InfoOptions& opt) {
   const Scene scene = opt.scene_path.empty() ? parse_scene(default_scene_toml(), "<built-in default>", opt.overrides)
                                              : load_scene(opt.scene_path, opt.overrides);
   fmt::print("# resolved scene ({})\n{}\n\n", scene.source, to_toml(scene));
+  if (const std::string note = capillary_note(scene); !note.empty()) fmt::print("# note: {}\n\n", note);
   const SurfaceMesh mesh = make_reference_mesh(scene.mesh);
   const MeshStats st = mesh_stats(mesh);
   const VolumeMoments vm = volume_moments(mesh);
@@ -74,23 +76,28 @@ int info_command(const InfoOptions& opt) {
     return std::isfinite(seconds_per_eval) ? fmt::format(", ~{:.0f} s", evals * seconds_per_eval) : std::string();
   };
   fmt::print("time scheme     {}\n", to_string(scene.time.scheme));
+  // Steps are shortened to land on every output time, so output.every < dt forces more steps.
+  auto count = [](double steps) {
+    return steps < 1e15 ? fmt::format("{:.0f}", steps)
+                        : std::isfinite(steps) ? fmt::format("{:.3g}", steps) : std::string("more than 1e308");
+  };
   if (scene.time.scheme == TimeScheme::Heun) {
     const double dt = scene.time.dt_auto ? scene.time.dt_safety * se.limit() : scene.time.dt;
-    const double steps = std::ceil(scene.time.t_end / dt);
-    fmt::print("time step       {:.3e} ({}), about {:.0f} steps = {:.0f} evaluations to t_end = {:g}{}\n", dt,
+    const double steps = estimated_steps(scene.time.t_end, scene.output.every, dt);
+    fmt::print("time step       {:.3e} ({}), about {} steps to t_end = {:g}: {} evaluations{}\n", dt,
                scene.time.dt_auto ? fmt::format("auto: {:g} × stable dt, recomputed every step", scene.time.dt_safety) : "fixed",
-               steps, 2 * steps, scene.time.t_end, wall(2 * steps));
+               count(steps), scene.time.t_end, count(2 * steps), wall(2 * steps));
   } else if (!scene.time.dt_auto) {
-    const double dt = scene.time.dt, steps = std::ceil(scene.time.t_end / dt);
+    const double dt = scene.time.dt, steps = estimated_steps(scene.time.t_end, scene.output.every, dt);
     const int s = RkcCoefficients::stages_for(dt * rho);
-    fmt::print("time step       {:.3e} (fixed): {} stages, about {:.0f} steps = {:.0f} evaluations to t_end = {:g}{}\n", dt, s,
-               steps, steps * s, scene.time.t_end, wall(steps * s));
+    fmt::print("time step       {:.3e} (fixed): {} stages, about {} steps to t_end = {:g}: {} evaluations{}\n", dt, s,
+               count(steps), scene.time.t_end, count(steps * s), wall(steps * s));
   } else {
     // The error-controlled step is not known in advance: the cost at typical steps.
     fmt::print("time step       error-controlled (tolerance {:g} ℓ); at a step of\n", scene.time.tolerance);
     for (double tau : {0.01, 0.03, 0.1}) {
       const int s = RkcCoefficients::stages_for(tau * rho);
-      const double steps = std::ceil(scene.time.t_end / tau);
+      const double steps = estimated_steps(scene.time.t_end, scene.output.every, tau);
       fmt::print("  {:<6g}        {:>3} stages, {:.0f} evaluations to t_end = {:g}{}\n", tau, s, steps * s,
                  scene.time.t_end, wall(steps * s));
     }

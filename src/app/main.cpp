@@ -6,8 +6,10 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <climits>
 #include <cstdlib>
 #include <exception>
+#include <new>
 #include <unistd.h>
 
 #include "capsflow/core/io/version.hpp"
@@ -17,12 +19,21 @@
 // (the rotation and mass solves have tens of barriers per stage: measured 0.4 s instead of 1 ms
 // per load recovery on a loaded 2-core machine). libgomp reads OMP_WAIT_POLICY once at start-up,
 // so unless the user chose a policy, re-execute once with the passive (sleeping) one.
+// The executable is re-executed by its real path: exec'ing "/proc/self/exe" itself names the
+// process "exe" in ps and top.
 void prefer_passive_openmp_wait(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") || std::getenv("CAPSFLOW_NO_REEXEC")) return;
   setenv("OMP_WAIT_POLICY", "passive", 0);
   setenv("CAPSFLOW_NO_REEXEC", "1", 1);
+  char self[PATH_MAX] = {};
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n > 0) execv(self, argv);  // returns only on failure (e.g. the file was replaced): then try /proc/self/exe
   execv("/proc/self/exe", argv);  // returns only on failure: then run with the default policy
 }
+
+// More threads than any machine capsflow runs on; beyond it a typo (--threads 1000000) would
+// try to start that many.
+constexpr int kMaxThreads = 4096;
 
 int main(int argc, char** argv) {
   prefer_passive_openmp_wait(argv);
@@ -44,10 +55,15 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--set", run.overrides, "override a scene key, e.g. --set time.t_end=1");
   auto* out_opt = run_cmd->add_option("-o,--output", run.output_dir, "output folder (default: capsflow-out)");
   run_cmd->add_flag("--overwrite", run.overwrite, "replace capsflow's files in an existing output folder");
-  run_cmd->add_option("--restart", run.restart, "continue from a checkpoint (DIR/checkpoint.h5)");
-  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all)")->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--restart", run.restart, "continue from a checkpoint (DIR/checkpoint.h5, or DIR)");
+  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default 0: all cores)")->check(CLI::Range(0, kMaxThreads));
 
-  CLI11_PARSE(cli, argc, argv);
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = cli.exit(e);  // prints the help, or the error and a hint
+    return code == 0 ? 0 : 2;      // command-line errors: exit code 2 (docs/scene-and-output.md §1.4)
+  }
   try {
     if (show_version) {
       const auto b = capsflow::build_info();
@@ -62,6 +78,9 @@ int main(int argc, char** argv) {
     }
     fmt::print("{}", cli.help());
     return 0;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "capsflow: error: out of memory\n");
+    return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "capsflow: error: {}\n", e.what());
     return 1;

@@ -13,7 +13,8 @@ int run_command(const RunCommandOptions& o) {
   r.threads = o.threads;
   r.command_line = o.command_line;
   if (!o.restart.empty()) {
-    if (o.overwrite) throw std::runtime_error("--restart continues a run in place; it cannot be combined with --overwrite");
+    if (o.overwrite)
+      throw std::runtime_error("--restart cannot be combined with --overwrite: it continues in the run's own folder, or starts a new or empty one (-o NEW)");
     if (!o.scene_path.empty()) throw std::runtime_error("--restart takes the scene from the checkpoint; use --set to change keys");
     r.restart = o.restart;
     r.restart_overrides = o.overrides;

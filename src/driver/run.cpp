@@ -9,6 +9,8 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "capsflow/core/driver/restart_rules.hpp"
+#include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
 #include "capsflow/core/dynamics/heun.hpp"
 #include "capsflow/core/dynamics/rkc.hpp"
@@ -21,6 +23,7 @@
 #include "capsflow/core/io/h5.hpp"
 #include "capsflow/core/io/output_folder.hpp"
 #include "capsflow/core/io/results_writer.hpp"
+#include "capsflow/core/io/run_identity.hpp"
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/geometry/profiles.hpp"
 #include "capsflow/core/dynamics/stability.hpp"
@@ -31,10 +34,13 @@ namespace capsflow {
 namespace {
 
 std::atomic<int> g_signal{0};
-extern "C" void on_signal(int sig) { g_signal = sig; }
+extern "C" void on_signal(int sig) {
+  g_signal = sig;
+  std::signal(sig, SIG_DFL);  // a second Ctrl-C stops at once, without the checkpoint
+}
 
 std::string hms(double s) {
-  if (!std::isfinite(s)) return "?";
+  if (!std::isfinite(s) || s > 1e9) return "?";
   const long t = static_cast<long>(s + 0.5);
   return t >= 3600 ? fmt::format("{}h{:02}m", t / 3600, (t / 60) % 60) : fmt::format("{}m{:02}s", t / 60, t % 60);
 }
@@ -72,6 +78,7 @@ struct RunState {
 
 // One attempt at a step, whichever the scheme.
 struct StepOutcome {
+  bool progress = true;  // false: the step would not advance t (nothing was done)
   bool accepted = true;
   double dt = 0;  // the step taken (or attempted, when rejected)
   int stages = 0;
@@ -121,6 +128,9 @@ class Simulation {
   Points x_prev_, v_out_;
   Eigen::VectorXd wall_prev_;
   int threads_ = 1;
+  std::string run_id_, mesh_hash_;
+  RestartPlan restart_;  // restart_.new_folder: a new run folder started from the checkpoint
+  std::filesystem::path checkpoint_path_;  // the checkpoint actually read (after a fallback: the previous one)
 };
 
 void Simulation::setup() {
@@ -128,17 +138,31 @@ void Simulation::setup() {
   threads_ = omp_get_max_threads();
   io::CheckpointState ck;
   if (!opt_.restart.empty()) {
-    ck = io::read_checkpoint(opt_.restart);
-    scene_ = parse_scene(ck.scene_toml, opt_.restart + " (scene)", opt_.restart_overrides);
-    folder_ = opt_.output_dir.empty() ? std::filesystem::path(opt_.restart).parent_path() : std::filesystem::path(opt_.output_dir);
-    io::open_output_folder_for_restart(folder_);
+    io::LoadedCheckpoint loaded = io::load_checkpoint_for_restart(opt_.restart);
+    if (!loaded.fallback_reason.empty())
+      spdlog::warn("{}; continuing from the previous checkpoint {} (t = {:g})", loaded.fallback_reason, loaded.path.string(),
+                   loaded.state.t);
+    ck = std::move(loaded.state);
+    checkpoint_path_ = loaded.path;
+    restart_ = plan_restart(ck, loaded.path, opt_.restart_overrides, opt_.output_dir);  // refuses before any write
+    scene_ = restart_.scene;
+    folder_ = restart_.folder;
+    if (restart_.new_folder) io::prepare_output_folder(folder_, false);
+    else if (const auto removed = io::open_output_folder_for_restart(folder_).removed; !removed.empty())
+      spdlog::info("removed {} temporaries left by killed runs (first: {})", removed.size(), removed.front().filename().string());
     ref_ = SurfaceMesh{ck.reference_positions, ck.triangles};
+    run_id_ = restart_.run_id;
   } else {
     scene_ = opt_.scene;
     folder_ = opt_.output_dir;
     ref_ = make_reference_mesh(scene_.mesh);  // validates a user mesh before touching the folder
-    io::prepare_output_folder(folder_, opt_.overwrite);
+    const io::PreparedFolder prepared = io::prepare_output_folder(folder_, opt_.overwrite);
+    if (!prepared.kept.empty())
+      spdlog::info("output folder: kept {} entries capsflow did not write (first: {})", prepared.kept.size(),
+                   prepared.kept.front().filename().string());
+    run_id_ = io::new_run_id();
   }
+  mesh_hash_ = io::mesh_hash(ref_.vertices, ref_.triangles);
   steady_ = std::make_unique<SteadyStateDetector>(scene_.time.steady_tol);
   dyn_ = std::make_unique<CapsuleDynamics>(scene_, ref_, threads_);
   rhs_ = [this](const Points& x, Points& v) { dyn_->velocity(x, v); };
@@ -166,6 +190,11 @@ void Simulation::setup() {
     steady_->set_history(ck.history);
     const auto e = nlohmann::json::parse(ck.extra);
     st_.set_extra(e);
+    // A changed output.every or checkpoint_every counts its index from the checkpoint time.
+    const Scene stored = parse_scene(ck.scene_toml, "checkpoint");
+    st_.next_output = restart_index(e.at("next_output").get<std::int64_t>(), stored.output.every, scene_.output.every, st_.t);
+    st_.next_checkpoint = restart_index(e.at("next_checkpoint").get<std::int64_t>(), stored.output.checkpoint_every,
+                                        scene_.output.checkpoint_every, st_.t);
     if (rkc_ && e.contains("rkc")) {
       rkc_->set_scalar_state(e.at("rkc"));
       rkc_->set_matrix_state(ck.integrator_state);
@@ -184,7 +213,14 @@ void Simulation::setup() {
                          {"backend", to_string(dyn_->single_layer().backend())},
                          {"backend_reason", dyn_->single_layer().backend_reason()},
                          {"fmm_order", dyn_->single_layer().fmm_order()}};
-  out_ = opt_.restart.empty() ? std::make_unique<io::ResultsWriter>(folder_, ref_, meta)
+  meta["run_id"] = run_id_;
+  meta["mesh_hash"] = mesh_hash_;
+  if (restart_.new_folder) {
+    meta["parent_run_id"] = restart_.parent_run_id;
+    meta["parent_checkpoint"] = std::filesystem::absolute(checkpoint_path_).lexically_normal().string();
+    meta["t_start"] = st_.t;
+  }
+  out_ = opt_.restart.empty() || restart_.new_folder ? std::make_unique<io::ResultsWriter>(folder_, ref_, meta)
                               : std::make_unique<io::ResultsWriter>(io::ResultsWriter::reopen(folder_, st_.t, meta));
   spdlog::info("capsflow {} (git {}), {} threads", version_string(), git_hash(), threads_);
   spdlog::info("scene {}: {} elements, {} nodes, wall {} {}, flow {}, Ca_s = {:g}", scene_.source, ref_.num_elements(),
@@ -192,6 +228,8 @@ void Simulation::setup() {
                scene_.flow.ca_s);
   spdlog::info("boundary integral: {} ({})", to_string(dyn_->single_layer().backend()), dyn_->single_layer().backend_reason());
   spdlog::info("output: {}{}", folder_.string(), opt_.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st_.t));
+  if (restart_.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path_.string());
+  if (const std::string note = capillary_note(scene_); !note.empty()) spdlog::info("note: {}", note);
 }
 
 double Simulation::next_dt() const {
@@ -213,6 +251,7 @@ StepOutcome Simulation::advance() {
   StepOutcome o;
   if (!rkc_) {
     o.dt = next_dt();
+    if (!(o.progress = step_makes_progress(st_.t, o.dt))) return o;
     heun_.step(*dyn_, st_.x, o.dt);
     o.stages = Heun::evaluations_per_step;
     rhs_at_state_ = false;  // Heun's last evaluation is at the predictor
@@ -224,6 +263,8 @@ StepOutcome Simulation::advance() {
   const double remaining = clip_to_outputs(std::numeric_limits<double>::infinity());
   // Up to 20 % above the proposal (its safety factor 0.8 leaves a factor 2 in the error).
   const double tau = want >= remaining ? remaining : remaining / std::ceil(remaining / (1.2 * want));
+  o.dt = tau;
+  if (!(o.progress = step_makes_progress(st_.t, tau))) return o;
   const Rkc::StepReport r = rkc_->step(rhs_, st_.x, tau);
   if (std::getenv("CAPSFLOW_TRACE_STEPS"))
     fmt::print(stderr, "TRACE t {:.5f} tau {:.4e} s {} err {:.3f} acc {} evals {} rho {:.1f}\n", st_.t, r.tau, r.stages, r.error,
@@ -317,6 +358,7 @@ void Simulation::write_checkpoint() {
     ck.integrator_state = rkc_->matrix_state();
   }
   ck.extra = extra.dump();
+  ck.run_id = run_id_;
   io::write_checkpoint(folder_ / io::kCheckpointFile, ck);
 }
 
@@ -386,6 +428,8 @@ void Simulation::finish(const std::string& stop_reason) {
     summary["stages_mean"] = accepted > 0 ? static_cast<double>(st_.stages_total) / static_cast<double>(accepted) : 0.0;
     summary["spectral_radius_evaluations"] = rkc_->rho_evaluations();
   }
+  summary["run_id"] = run_id_;
+  summary["mesh_hash"] = mesh_hash_;
   out_->write_summary(summary);
   const auto& ph = timing["phases"];
   spdlog::info("stopped: {} at t = {:g} after {} steps ({} rejected), {} right-hand-side evaluations, {:.1f} s", stop_reason,
@@ -408,12 +452,11 @@ int Simulation::run() {
     ~Restore() { std::signal(SIGINT, i), std::signal(SIGTERM, t); }
   } restore{old_int, old_term};
 
-  if (opt_.restart.empty()) write_output();
+  if (opt_.restart.empty() || restart_.new_folder) write_output();
   else last_shape_ = shape_diagnostics(SurfaceMesh{st_.x, ref_.triangles});
   t_segment_start_ = st_.t;
   std::string stop = "t_end";
-  const double eps = 1e-12 * std::max(1.0, scene_.time.t_end);
-  while (st_.t < scene_.time.t_end - eps) {
+  while (!time_reached(st_.t, scene_.time.t_end, st_.dt)) {
     if (g_signal) {
       spdlog::warn("signal {} received: writing a checkpoint and stopping", static_cast<int>(g_signal));
       stop = "interrupted";
@@ -435,6 +478,12 @@ int Simulation::run() {
       stop = fmt::format("solver_failure: {} at t = {:g}", e.what(), st_.t);
       spdlog::error("{}; keeping the last healthy state", stop);
       roll_back();
+      break;
+    }
+    if (!o.progress) {
+      spdlog::error("no progress at step {} (t = {:g}): the time step {:g} does not advance t; stopping", st_.step + 1, st_.t,
+                    o.dt);
+      stop = "no_progress";
       break;
     }
     if (!o.accepted) {
@@ -463,17 +512,18 @@ int Simulation::run() {
       stop = "blow_up";
       break;
     }
-    st_.t = std::abs(st_.t + st_.dt - t_out) <= eps ? t_out : st_.t + st_.dt;
+    st_.t = advance_time(st_.t, st_.dt, std::min(t_out, scene_.time.t_end));
     ++st_.step;
     ++steps_this_segment_;
     steady_->add(st_.t, surface_area(SurfaceMesh{st_.x, ref_.triangles}));
-    if (st_.t >= t_out - eps) {
+    if (time_reached(st_.t, t_out, st_.dt)) {
       write_output();
       ++st_.next_output;
     }
-    if (scene_.output.checkpoint_every > 0 && st_.t >= st_.next_checkpoint * scene_.output.checkpoint_every - eps) {
+    if (scene_.output.checkpoint_every > 0 &&
+        time_reached(st_.t, static_cast<double>(st_.next_checkpoint) * scene_.output.checkpoint_every, st_.dt)) {
       write_checkpoint();
-      while (st_.next_checkpoint * scene_.output.checkpoint_every <= st_.t + eps) ++st_.next_checkpoint;
+      st_.next_checkpoint = next_index_after(st_.t, scene_.output.checkpoint_every, st_.next_checkpoint, st_.dt);
     }
     report_progress(false);
     if (scene_.time.stop_at_steady && steady_->steady()) {

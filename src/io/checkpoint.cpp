@@ -4,12 +4,15 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <system_error>
 
 #include "capsflow/core/io/atomic_file.hpp"
 #include "capsflow/core/io/h5.hpp"
+#include "capsflow/core/io/run_identity.hpp"
+#include "fnv1a.hpp"
 
 namespace capsflow::io {
 namespace fs = std::filesystem;
@@ -27,30 +30,9 @@ bool all_finite(const Eigen::DenseBase<Derived>& m) {
   return m.size() == 0 || m.derived().array().isFinite().all();
 }
 
-// FNV-1a over the state's bytes: HDF5 (contiguous datasets) has no checksum of its own, and a
-// damaged checkpoint must not silently restart a run from wrong numbers.
-class Fnv1a {
- public:
-  void add(const void* data, std::size_t n) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < n; ++i) h_ = (h_ ^ p[i]) * 0x100000001b3ULL;
-  }
-  template <typename Derived>
-  void add_matrix(const Eigen::PlainObjectBase<Derived>& m) {
-    const std::int64_t shape[2] = {m.rows(), m.cols()};
-    add(shape, sizeof shape);
-    add(m.data(), sizeof(typename Derived::Scalar) * std::size_t(m.size()));
-  }
-  void add_string(const std::string& s) {
-    const std::uint64_t n = s.size();
-    add(&n, sizeof n);
-    add(s.data(), s.size());
-  }
-  std::string hex() const { return fmt::format("{:016x}", h_); }
-
- private:
-  std::uint64_t h_ = 0xcbf29ce484222325ULL;
-};
+// FNV-1a over the state's bytes (fnv1a.hpp): HDF5 (contiguous datasets) has no checksum of its
+// own, and a damaged checkpoint must not silently restart a run from wrong numbers.
+using detail::Fnv1a;
 
 std::string checksum(const CheckpointState& s) {
   Fnv1a h;
@@ -66,6 +48,7 @@ std::string checksum(const CheckpointState& s) {
   for (const std::string* str : {&s.scene_toml, &s.scene_resolved, &s.version, &s.extra}) {
     h.add_string(*str);
   }
+  if (!s.run_id.empty()) h.add_string(s.run_id);  // absent from checkpoints written before run ids
   return h.hex();
 }
 
@@ -77,6 +60,8 @@ void write_file(const fs::path& tmp, const CheckpointState& s) {
   f.set_attribute("t", s.t);
   f.set_attribute("dt", s.dt);
   f.set_attribute("version", s.version);
+  if (!s.run_id.empty()) f.set_attribute("run_id", s.run_id);
+  f.set_attribute("mesh_hash", mesh_hash(s.reference_positions, s.triangles));  // for readers; not read back
   f.write_matrix("positions", s.positions);
   f.write_matrix("reference_positions", s.reference_positions);
   f.write_matrix("triangles", s.triangles);
@@ -88,6 +73,32 @@ void write_file(const fs::path& tmp, const CheckpointState& s) {
   f.write_string("extra", s.extra);
   f.set_attribute("checksum", checksum(s));
   f.close();
+}
+
+std::function<void(const fs::path&)>& after_write_hook() {
+  static std::function<void(const fs::path&)> hook;
+  return hook;
+}
+
+// A full disk has produced HDF5 files that closed without an error but held empty strings and
+// zeroed arrays: read the temporary back and compare checksums before it may replace anything.
+void verify_written(const fs::path& tmp, const CheckpointState& s, const std::string& name) {
+  CheckpointState back;
+  try {
+    back = read_checkpoint(tmp);
+  } catch (const std::runtime_error& e) {
+    fail(name, std::string("the file just written does not read back (disk full?): ") + e.what());
+  }
+  if (checksum(back) != checksum(s)) fail(name, "the file just written reads back different numbers (disk full?)");
+}
+
+bool reads_as_checkpoint(const fs::path& path) {
+  try {
+    read_checkpoint(path);
+    return true;
+  } catch (const std::runtime_error&) {
+    return false;
+  }
 }
 
 }  // namespace
@@ -113,7 +124,8 @@ void validate_checkpoint(const CheckpointState& s, const std::string& name) {
   }
   if (s.step < 0) fail(name, fmt::format("negative step {}", s.step));
   if (!std::isfinite(s.t)) fail(name, "t is not finite");
-  if (!std::isfinite(s.dt) || !(s.dt > 0)) fail(name, fmt::format("dt = {} is not positive", s.dt));
+  // dt = 0: no step taken yet (a run interrupted before its first step).
+  if (!std::isfinite(s.dt) || !(s.dt >= 0)) fail(name, fmt::format("dt = {} is negative or not finite", s.dt));
   if (!all_finite(s.positions)) fail(name, "positions contain NaN or infinity");
   if (!all_finite(s.reference_positions)) fail(name, "reference_positions contain NaN or infinity");
   if (!all_finite(s.wall_state)) fail(name, "wall_state contains NaN or infinity");
@@ -127,8 +139,11 @@ void write_checkpoint(const fs::path& path, const CheckpointState& state) {
   try {
     write_file(tmp, state);
     fsync_path(tmp);
+    if (after_write_hook()) after_write_hook()(tmp);
+    verify_written(tmp, state, path.string());
     std::error_code ec;
-    if (fs::exists(path, ec)) rename_durably(path, previous_checkpoint_path(path));
+    // A damaged newest file must not push the last good one out of the previous slot.
+    if (fs::exists(path, ec) && reads_as_checkpoint(path)) rename_durably(path, previous_checkpoint_path(path));
     rename_durably(tmp, path);
   } catch (...) {
     std::error_code ec;
@@ -141,6 +156,7 @@ CheckpointState read_checkpoint(const fs::path& path) {
   const std::string name = path.string();
   std::error_code ec;
   if (!fs::exists(path, ec)) fail(name, "no such file");
+  if (fs::is_directory(path, ec)) fail(name, "is a folder, not a checkpoint file (pass " + (path / kCheckpointFile).string() + ")");
   std::optional<h5::File> file;
   try {
     file.emplace(h5::File::open(path, h5::File::Mode::read_only));
@@ -167,6 +183,7 @@ CheckpointState read_checkpoint(const fs::path& path) {
     s.t = f.attribute_double("t");
     s.dt = f.attribute_double("dt");
     s.version = f.attribute_string("version");
+    if (f.has_attribute("run_id")) s.run_id = f.attribute_string("run_id");
     const h5::RowMatrixXd x = f.read_matrix<double>("positions");
     const h5::RowMatrixXd x0 = f.read_matrix<double>("reference_positions");
     const h5::RowMatrixXi tri = f.read_matrix<int>("triangles");
@@ -196,6 +213,30 @@ CheckpointState read_checkpoint(const fs::path& path) {
   if (stored_checksum != checksum(s)) fail(name, "checksum mismatch: the file is damaged");
   return s;
 }
+
+LoadedCheckpoint load_checkpoint_for_restart(const fs::path& given) {
+  std::error_code ec;
+  const fs::path path = fs::is_directory(given, ec) ? given / kCheckpointFile : given;
+  LoadedCheckpoint out;
+  out.path = path;
+  try {
+    out.state = read_checkpoint(path);
+    return out;
+  } catch (const std::runtime_error& e) {
+    const fs::path prev = previous_checkpoint_path(path);
+    if (path.filename() != kCheckpointFile || !fs::exists(prev, ec)) throw;
+    try {
+      out.state = read_checkpoint(prev);
+    } catch (const std::runtime_error& e2) {
+      throw std::runtime_error(std::string(e.what()) + "; the previous one is not usable either: " + e2.what());
+    }
+    out.path = prev;
+    out.fallback_reason = e.what();
+    return out;
+  }
+}
+
+void set_checkpoint_write_hook_for_tests(std::function<void(const fs::path& tmp)> hook) { after_write_hook() = std::move(hook); }
 
 fs::path find_latest_checkpoint(const fs::path& folder) {
   const fs::path latest = folder / kCheckpointFile;

@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <stdexcept>
@@ -13,6 +14,12 @@ namespace fs = std::filesystem;
 namespace {
 
 // HDF5 prints its whole error stack to stderr by default; we report errors as exceptions instead.
+// Also keeps HDF5 from closing its files in an atexit handler: after a failed H5Fclose (a full
+// disk) that handler retried the close and crashed (exit 139 instead of capsflow's one-line
+// error and exit 1). Every file capsflow writes is closed explicitly (File::close), so nothing is
+// lost. H5dont_atexit must come before the library initialises, i.e. before any other call.
+// (Also run at static initialisation, before anything can open the library.)
+const bool kNoAtexit = H5dont_atexit() >= 0;
 void silence_hdf5_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
 herr_t innermost_message(unsigned n, const H5E_error2_t* e, void* out) {
@@ -22,11 +29,25 @@ herr_t innermost_message(unsigned n, const H5E_error2_t* e, void* out) {
 }
 
 // The innermost message of the current thread's HDF5 error stack (read before the next call).
+// System-call failures come as "file write failed: time = <ctime with a newline>, filename = ...,
+// errno = 28, error message = 'No space left on device', buf = ..."; keep the operation and the
+// system's message, so that the error stays one readable line.
 std::string hdf5_message() {
   std::string msg;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_message, &msg);
   H5Eclear2(H5E_DEFAULT);
-  return msg.empty() ? std::string("unknown HDF5 error") : msg;
+  if (msg.empty()) return "unknown HDF5 error";
+  const std::string key = "error message = '";
+  const std::size_t at = msg.find(key);
+  if (at != std::string::npos) {
+    const std::size_t end = msg.find('\'', at + key.size());
+    std::string what = msg.substr(0, std::min(msg.find_first_of(":,"), at));
+    while (!what.empty() && (what.back() == ' ' || what.back() == ',')) what.pop_back();
+    msg = what + ": " + msg.substr(at + key.size(), end == std::string::npos ? std::string::npos : end - at - key.size());
+  }
+  for (char& c : msg)
+    if (c == '\n' || c == '\r') c = ' ';
+  return msg;
 }
 
 [[noreturn]] void fail_file(const std::string& what, const fs::path& path) {

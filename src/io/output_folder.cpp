@@ -2,9 +2,11 @@
 #include "capsflow/core/io/output_folder.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <stdexcept>
 #include <system_error>
@@ -18,33 +20,29 @@ namespace {
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
-bool starts_with(const std::string& s, const std::string& prefix) {
-  return s.compare(0, prefix.size(), prefix) == 0;
-}
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+// True unless `pid` is certainly not running (kill(pid, 0) fails with ESRCH): the temporary of
+// a live capsflow (another run wrongly sharing the folder) is not ours to remove.
+bool process_may_be_alive(long pid) {
+  if (pid <= 0) return true;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH;
 }
 
 }  // namespace
 
-bool is_capsflow_output_name(const std::string& name) {
-  // Leftover temporaries of an atomic write ("run.xmf.tmp.1234") belong to us too.
-  const std::size_t tmp = name.find(".tmp.");
-  const std::string base = tmp == std::string::npos ? name : name.substr(0, tmp);
-  if (tmp != std::string::npos) {
-    const std::string pid = name.substr(tmp + 5);
-    if (pid.empty() ||
-        !std::all_of(pid.begin(), pid.end(), [](char c) { return c >= '0' && c <= '9'; }))
-      return false;
+std::vector<fs::path> remove_stale_temporaries(const fs::path& dir) {
+  std::vector<fs::path> stale, removed;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    long pid = 0;
+    if (!is_capsflow_temporary_name(it->path().filename().string(), &pid) || process_may_be_alive(pid)) continue;
+    if (!it->is_directory(ec) && !it->is_symlink(ec)) stale.push_back(it->path());
   }
-  static const char* const fixed[] = {"run.h5",       "run.xmf", "timeseries.csv",
-                                      "summary.json", "log",     "capsflow.log"};
-  for (const char* f : fixed) {
-    if (base == f) return true;
+  for (const fs::path& p : stale) {
+    std::error_code rm;
+    if (fs::remove(p, rm)) removed.push_back(p);
   }
-  return starts_with(base, "checkpoint") && ends_with(base, ".h5");
+  std::sort(removed.begin(), removed.end());
+  return removed;
 }
 
 void check_writable(const fs::path& dir) {
@@ -107,7 +105,7 @@ PreparedFolder open_output_folder_for_restart(const fs::path& dir) {
     fail("cannot restart in output folder " + quoted(dir) + ": it does not exist");
   if (!fs::is_directory(st)) fail("output path " + quoted(dir) + " exists and is not a folder");
   check_writable(dir);
-  return PreparedFolder{dir, {}, {}};
+  return PreparedFolder{dir, remove_stale_temporaries(dir), {}};
 }
 
 }  // namespace capsflow::io

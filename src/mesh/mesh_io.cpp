@@ -1,8 +1,17 @@
 #include "capsflow/core/mesh/mesh_io.hpp"
 
+#include <fmt/core.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
+#include <new>
+#include <regex>
 #include <sstream>
 #include <vector>
 
@@ -49,6 +58,51 @@ struct LineReader {
   }
 };
 
+// Whole-token numbers: "1.5" is not an index and "0x" is not a coordinate (stream extraction
+// would read the leading part and leave the rest for the next field).
+bool parse_double(const std::string& tok, double& out) {
+  if (tok.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtod(tok.c_str(), &end);
+  return end == tok.c_str() + tok.size();
+}
+
+// A vertex index: an integer token in [0, 2^31 − 1] (the triangles are int32). Reports why not.
+std::string parse_index(const std::string& tok, int& out) {
+  double v = 0;
+  if (!parse_double(tok, v)) return "'" + tok + "' is not a number";
+  if (!(v == std::floor(v))) return "vertex index '" + tok + "' is not an integer";
+  if (!(v >= 0 && v <= static_cast<double>(std::numeric_limits<int>::max())))
+    return "vertex index " + tok + " is outside [0, " + std::to_string(std::numeric_limits<int>::max()) + "]";
+  out = static_cast<int>(v);
+  return {};
+}
+
+std::vector<std::string> tokens(std::istringstream& ls) {
+  std::vector<std::string> t;
+  for (std::string w; ls >> w;) t.push_back(w);
+  return t;
+}
+
+std::uintmax_t file_size_or_zero(const std::string& path) {
+  std::error_code ec;
+  const std::uintmax_t n = std::filesystem::file_size(path, ec);
+  return ec ? 0 : n;
+}
+
+// Declared counts that the file cannot hold mean a damaged header, not a mesh to allocate
+// (99999999999 vertices would be a bare std::bad_alloc otherwise). Small meshes (under 16 MB of
+// arrays) are allocated anyway: reading then names the line where the file ends.
+void check_counts_fit(const std::string& path, long long nv, long long nf, double min_vertex_bytes, double min_face_bytes,
+                      std::uintmax_t available) {
+  const double need = static_cast<double>(nv) * min_vertex_bytes + static_cast<double>(nf) * min_face_bytes;
+  const double arrays = 24.0 * static_cast<double>(nv) + 12.0 * static_cast<double>(nf);
+  if (need > static_cast<double>(available) && arrays > 16.0 * (1 << 20))
+    fail(path, fmt::format("the header declares {} vertices and {} faces, more than a file of {} bytes can hold "
+                           "(damaged or truncated file?)", nv, nf, available));
+}
+
 }  // namespace
 
 SurfaceMesh read_off(const std::string& path) {
@@ -59,11 +113,22 @@ SurfaceMesh read_off(const std::string& path) {
   if (!r.next(ls)) fail(path, "empty file");
   std::string first;
   ls >> first;
-  if (first == "OFF") {
+  // Geomview's header variants [ST][C][N][4][n]OFF: ST (texture coordinates), C (colour) and N
+  // (normal) add values after x y z on each vertex line, which are ignored; 4 and n change the
+  // dimension. Faces may carry a colour after their indices (ignored too).
+  static const std::regex header("^(ST)?(C)?(N)?(4)?(n)?OFF$");
+  std::smatch h;
+  if (std::regex_match(first, h, header)) {
+    if (h[4].matched || h[5].matched)
+      fail(path, "line " + std::to_string(r.line) + ": '" + first + "' (4-D or n-D OFF) is not supported; a capsule wall is a surface in 3-D");
     std::string rest;
     std::getline(ls, rest);  // counts may follow the header on the same line
+    std::istringstream probe(rest);
+    std::string word;
+    if (probe >> word && word == "BINARY")
+      fail(path, "line " + std::to_string(r.line) + ": binary OFF is not supported (convert it to ASCII OFF or PLY)");
     if (rest.find_first_not_of(" \t\r") == std::string::npos) {
-      if (!r.next(ls)) fail(path, "missing counts line after OFF header");
+      if (!r.next(ls)) fail(path, "missing counts line after " + first + " header");
     } else {
       ls.clear();
       ls.str(rest);
@@ -72,24 +137,39 @@ SurfaceMesh read_off(const std::string& path) {
     ls.clear();
     ls.seekg(0);
   }
-  long nv = -1, nf = -1, ne = 0;
-  if (!(ls >> nv >> nf) || nv < 0 || nf < 0) fail(path, "line " + std::to_string(r.line) + ": expected 'nvertices nfaces nedges'");
-  (void)(ls >> ne);
+  const std::vector<std::string> counts = tokens(ls);
+  double nv_d = -1, nf_d = -1;
+  const double int_max = static_cast<double>(std::numeric_limits<int>::max());
+  if (counts.size() < 2 || !parse_double(counts[0], nv_d) || !parse_double(counts[1], nf_d) || nv_d != std::floor(nv_d) ||
+      nf_d != std::floor(nf_d) || !(nv_d >= 0 && nv_d <= int_max) || !(nf_d >= 0 && nf_d <= int_max))
+    fail(path, "line " + std::to_string(r.line) + ": expected 'nvertices nfaces nedges' (integers in [0, 2147483647])");
+  const long nv = static_cast<long>(nv_d), nf = static_cast<long>(nf_d);
+  check_counts_fit(path, nv, nf, 6, 8, file_size_or_zero(path));  // shortest lines: "0 0 0\n", "3 0 1 2\n"
   SurfaceMesh m;
   m.vertices.resize(nv, 3);
   m.triangles.resize(nf, 3);
   for (long i = 0; i < nv; ++i) {
     if (!r.next(ls)) fail(path, "unexpected end of file in vertex " + std::to_string(i));
-    if (!(ls >> m.vertices(i, 0) >> m.vertices(i, 1) >> m.vertices(i, 2)))
-      fail(path, "line " + std::to_string(r.line) + ": vertex " + std::to_string(i) + " needs three numbers");
+    const std::vector<std::string> t = tokens(ls);
+    const std::string where = "line " + std::to_string(r.line) + ": vertex " + std::to_string(i);
+    if (t.size() < 3) fail(path, where + " needs three numbers x y z");
+    for (int k = 0; k < 3; ++k) {
+      if (!parse_double(t[k], m.vertices(i, k))) fail(path, where + ": '" + t[k] + "' is not a number");
+      if (!std::isfinite(m.vertices(i, k))) fail(path, where + " has a non-finite coordinate (" + t[k] + ")");
+    }
   }
   for (long f = 0; f < nf; ++f) {
     if (!r.next(ls)) fail(path, "unexpected end of file in face " + std::to_string(f));
-    int k = 0;
-    if (!(ls >> k)) fail(path, "line " + std::to_string(r.line) + ": face " + std::to_string(f) + " has no vertex count");
-    if (k != 3) fail(path, "line " + std::to_string(r.line) + ": face " + std::to_string(f) + " has " + std::to_string(k) + " vertices; only triangles are supported");
-    if (!(ls >> m.triangles(f, 0) >> m.triangles(f, 1) >> m.triangles(f, 2)))
-      fail(path, "line " + std::to_string(r.line) + ": face " + std::to_string(f) + " needs three vertex indices");
+    const std::vector<std::string> t = tokens(ls);
+    const std::string where = "line " + std::to_string(r.line) + ": face " + std::to_string(f);
+    double k = 0;
+    if (t.empty() || !parse_double(t[0], k) || k != std::floor(k)) fail(path, where + " has no vertex count");
+    if (k != 3) fail(path, where + " has " + t[0] + " vertices; only triangles are supported");
+    if (t.size() < 4) fail(path, where + " needs three vertex indices");
+    for (int j = 0; j < 3; ++j) {
+      const std::string why = parse_index(t[1 + j], m.triangles(f, j));
+      if (!why.empty()) fail(path, where + ": " + why);
+    }
   }
   return finish(std::move(m), path);
 }
@@ -171,6 +251,31 @@ SurfaceMesh read_ply(const std::string& path) {
       fail(path, "line " + std::to_string(lineno) + ": unexpected PLY header keyword '" + word + "'");
     }
   }
+  {
+    // Every element needs some bytes: a number and a separator per ASCII value, the type's size
+    // per binary scalar, the count's size per binary list.
+    double need = 0;
+    for (const PlyElement& e : elements) {
+      double per = 0;
+      for (const PlyProperty& p : e.props)
+        per += binary ? ply_type_size(p.count_type.empty() ? p.type : p.count_type, path) : 2;
+      need += static_cast<double>(e.count) * per;
+    }
+    const std::uintmax_t total = file_size_or_zero(path);
+    const std::streamoff at = in.tellg();
+    const std::uintmax_t available = at > 0 && static_cast<std::uintmax_t>(at) <= total ? total - static_cast<std::uintmax_t>(at) : 0;
+    double arrays = 0;
+    for (const PlyElement& e : elements) arrays += 24.0 * static_cast<double>(e.count);
+    if (need > static_cast<double>(available) && arrays > 16.0 * (1 << 20)) {  // as check_counts_fit
+      std::string declared;
+      for (const PlyElement& e : elements) declared += (declared.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name;
+      fail(path, "the header declares " + declared + ", more than the " + std::to_string(available) +
+                     " bytes after it can hold (damaged or truncated file?)");
+    }
+    for (const PlyElement& e : elements)
+      if ((e.name == "vertex" || e.name == "face") && e.count > std::numeric_limits<int>::max())
+        fail(path, "element " + e.name + " count " + std::to_string(e.count) + " exceeds 2147483647");
+  }
   SurfaceMesh m;
   bool have_vertices = false, have_faces = false;
   for (const PlyElement& e : elements) {
@@ -195,24 +300,37 @@ SurfaceMesh read_ply(const std::string& path) {
       }
       for (size_t k = 0; k < e.props.size(); ++k) {
         const PlyProperty& p = e.props[k];
+        std::string tok;
         auto scalar = [&](const std::string& type) {
-          if (binary) return read_binary_scalar(in, type, path);
+          if (binary) {
+            const double v = read_binary_scalar(in, type, path);
+            tok = fmt::format("{}", v);
+            return v;
+          }
           double v;
-          if (!(ls >> v)) fail(path, "line " + std::to_string(lineno) + ": too few values for " + e.name + " " + std::to_string(i));
+          if (!(ls >> tok)) fail(path, "line " + std::to_string(lineno) + ": too few values for " + e.name + " " + std::to_string(i));
+          if (!parse_double(tok, v)) fail(path, "line " + std::to_string(lineno) + ": " + e.name + " " + std::to_string(i) + ": '" + tok + "' is not a number");
           return v;
         };
+        const std::string where = (binary ? std::string() : "line " + std::to_string(lineno) + ": ") + e.name + " " + std::to_string(i);
         if (p.count_type.empty()) {
           const double v = scalar(p.type);
           if (is_vertex && static_cast<int>(k) == ix) m.vertices(i, 0) = v;
           if (is_vertex && static_cast<int>(k) == iy) m.vertices(i, 1) = v;
           if (is_vertex && static_cast<int>(k) == iz) m.vertices(i, 2) = v;
         } else {
-          const int n = static_cast<int>(scalar(p.count_type));
+          const double count = scalar(p.count_type);
+          if (!(count >= 0 && count <= 1 << 20 && count == std::floor(count)))
+            fail(path, where + ": list length '" + tok + "' is not an integer in [0, 2^20]");
+          const int n = static_cast<int>(count);
           if (is_face && static_cast<int>(k) == ilist && n != 3)
-            fail(path, "face " + std::to_string(i) + " has " + std::to_string(n) + " vertices; only triangles are supported");
+            fail(path, where + " has " + std::to_string(n) + " vertices; only triangles are supported");
           for (int j = 0; j < n; ++j) {
-            const double v = scalar(p.type);
-            if (is_face && static_cast<int>(k) == ilist) m.triangles(i, j) = static_cast<int>(v);
+            scalar(p.type);
+            if (is_face && static_cast<int>(k) == ilist) {
+              const std::string why = parse_index(tok, m.triangles(i, j));
+              if (!why.empty()) fail(path, where + ": " + why);
+            }
           }
         }
       }
@@ -224,8 +342,12 @@ SurfaceMesh read_ply(const std::string& path) {
 
 SurfaceMesh read_mesh(const std::string& path) {
   const std::string ext = lower_ext(path);
-  if (ext == "off") return read_off(path);
-  if (ext == "ply") return read_ply(path);
+  try {
+    if (ext == "off") return read_off(path);
+    if (ext == "ply") return read_ply(path);
+  } catch (const std::bad_alloc&) {
+    fail(path, "not enough memory to read this mesh");
+  }
   fail(path, "unknown mesh file extension '." + ext + "' (expected .off or .ply)");
 }
 
@@ -246,6 +368,7 @@ void write_mesh(const SurfaceMesh& mesh, const std::string& path) {
     out << mesh.vertices(i, 0) << ' ' << mesh.vertices(i, 1) << ' ' << mesh.vertices(i, 2) << '\n';
   for (Eigen::Index e = 0; e < mesh.num_elements(); ++e)
     out << "3 " << mesh.triangles(e, 0) << ' ' << mesh.triangles(e, 1) << ' ' << mesh.triangles(e, 2) << '\n';
+  out.close();  // a full disk shows at the final flush
   if (!out) fail(path, "write failed");
 }
 

@@ -1,6 +1,8 @@
 #include "capsflow/core/mesh/topology.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <unordered_map>
 #include <vector>
 
@@ -14,6 +16,49 @@ std::string tri_str(const SurfaceMesh& m, Eigen::Index e) {
   return "element " + std::to_string(e) + " (" + std::to_string(m.triangles(e, 0)) + ", " +
          std::to_string(m.triangles(e, 1)) + ", " + std::to_string(m.triangles(e, 2)) + ")";
 }
+
+// Number of vertices whose coordinates equal another vertex's exactly: a triangle soup (every
+// triangle with its own three vertices, as STL converters write) has all of them duplicated.
+long count_duplicate_positions(const SurfaceMesh& m) {
+  std::vector<Eigen::Index> order(static_cast<size_t>(m.num_nodes()));
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+  auto less = [&](Eigen::Index a, Eigen::Index b) {
+    for (int k = 0; k < 3; ++k)
+      if (m.vertices(a, k) != m.vertices(b, k)) return m.vertices(a, k) < m.vertices(b, k);
+    return false;
+  };
+  std::sort(order.begin(), order.end(), less);
+  long dup = 0;
+  for (size_t i = 0; i < order.size(); ++i) {
+    const bool same_prev = i > 0 && !less(order[i - 1], order[i]);
+    const bool same_next = i + 1 < order.size() && !less(order[i], order[i + 1]);
+    if (same_prev || same_next) ++dup;
+  }
+  return dup;
+}
+
+std::string soup_hint(const SurfaceMesh& m) {
+  const long dup = count_duplicate_positions(m);
+  if (dup == 0) return "";
+  return "; " + std::to_string(dup) + " of the " + std::to_string(m.num_nodes()) +
+         " vertices share their position with another vertex: merge duplicate vertices (a triangle soup, e.g. converted "
+         "from STL; MeshLab 'Merge Close Vertices', trimesh merge_vertices) and try again";
+}
+
+// Two distinct vertices at (nearly) the same place: the surface is pinched or touches itself
+// there, although every topological check passes. Returns the first such pair, or (-1, -1).
+// Candidates come from a sweep over x; `tol` is absolute.
+std::pair<Eigen::Index, Eigen::Index> coincident_vertices(const SurfaceMesh& m, double tol) {
+  std::vector<Eigen::Index> order(static_cast<size_t>(m.num_nodes()));
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return m.vertices(a, 0) < m.vertices(b, 0); });
+  for (size_t i = 0; i < order.size(); ++i)
+    for (size_t j = i + 1; j < order.size() && m.vertices(order[j], 0) - m.vertices(order[i], 0) <= tol; ++j)
+      if ((m.vertices.row(order[i]) - m.vertices.row(order[j])).norm() <= tol)
+        return {std::min(order[i], order[j]), std::max(order[i], order[j])};
+  return {-1, -1};
+}
+
 }  // namespace
 
 Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> mesh_edges(const SurfaceMesh& mesh) {
@@ -78,7 +123,7 @@ bool validate_closed_surface(SurfaceMesh& mesh) {
       const int a = mesh.triangles(e, k), b = mesh.triangles(e, (k + 1) % 3);
       if (!directed.count(edge_key(b, a, nv)))
         throw MeshError("mesh is not closed: edge (" + std::to_string(a) + ", " + std::to_string(b) + ") of " +
-                        tri_str(mesh, e) + " is a boundary edge");
+                        tri_str(mesh, e) + " is a boundary edge" + soup_hint(mesh));
     }
 
   // Vertex manifoldness: the elements around each vertex form one fan (a single cycle of the
@@ -114,6 +159,21 @@ bool validate_closed_surface(SurfaceMesh& mesh) {
   const double mean_area = area.mean();
   for (Eigen::Index e = 0; e < nt; ++e)
     if (!(area[e] > 1e-14 * mean_area)) throw MeshError(tri_str(mesh, e) + " has zero area (degenerate)");
+
+  // Pinched or self-touching surface: distinct vertices at the same place. 1e-6 of the mean edge
+  // is far below any element a run can resolve (its stable step would be ~1e-6 of the usual).
+  {
+    double mean_edge = 0;
+    for (Eigen::Index e = 0; e < nt; ++e)
+      for (int k = 0; k < 3; ++k)
+        mean_edge += (mesh.vertices.row(mesh.triangles(e, k)) - mesh.vertices.row(mesh.triangles(e, (k + 1) % 3))).norm();
+    mean_edge /= static_cast<double>(3 * nt);
+    const auto [i, j] = coincident_vertices(mesh, 1e-6 * mean_edge);
+    if (i >= 0)
+      throw MeshError("vertices " + std::to_string(i) + " and " + std::to_string(j) +
+                      " are at the same position: the surface is pinched or touches itself there" +
+                      (count_duplicate_positions(mesh) > 2 ? soup_hint(mesh) : std::string()));
+  }
 
   // Sphere topology: one connected component and χ = V − E + F = 2.
   std::vector<int> parent(static_cast<size_t>(nv));

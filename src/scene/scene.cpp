@@ -2,7 +2,13 @@
 
 #include <fmt/core.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -44,6 +50,8 @@ class Reader {
   }
   std::string where(const std::string& key, const toml::node* node) const {
     if (overridden_.count(key)) return "--set " + key + ": ";
+    for (const auto& k : overridden_)  // a section that only an override created
+      if (k.compare(0, key.size() + 1, key + ".") == 0 && !(node && node->source().begin.line > 0)) return "--set " + k + ": ";
     if (node && node->source().begin.line > 0)
       return name_ + ":" + std::to_string(node->source().begin.line) + ": " + key + ": ";
     return name_ + ": " + key + ": ";
@@ -295,6 +303,7 @@ Scene parse_scene(const std::string& toml_text, const std::string& name, const s
   r.get_choice("flow", "type", f.type);
   const bool has_cav = r.has("flow", "ca_v"), has_cas = r.has("flow", "ca_s");
   if (has_cav && has_cas) r.fail("flow.ca_s", r.find("flow", "ca_s"), "give either flow.ca_s or flow.ca_v, not both");
+  f.ca_s_from_ca_v = !has_cas;
   if (has_cas) {
     r.get("flow", "ca_s", f.ca_s);
     r.require(f.ca_s > 0, "flow", "ca_s", "must be positive");
@@ -356,12 +365,61 @@ Scene parse_scene(const std::string& toml_text, const std::string& name, const s
   return sc;
 }
 
+namespace {
+
+// The scene file's bytes, with errors that tell a missing file from an unreadable one.
+std::string read_scene_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (st.type() == fs::file_type::not_found) throw SceneError(path + ": scene file not found");
+  if (ec) throw SceneError(path + ": cannot access scene file: " + ec.message());
+  if (fs::is_directory(st)) throw SceneError(path + ": is a folder, not a scene file");
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw SceneError(path + ": cannot read scene file: " + std::strerror(errno));
+  std::string text;
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int err = errno;
+      ::close(fd);
+      throw SceneError(path + ": cannot read scene file: " + std::strerror(err));
+    }
+    if (n == 0) break;
+    text.append(buf, static_cast<std::size_t>(n));
+    if (text.size() > (64u << 20)) {
+      ::close(fd);
+      throw SceneError(path + ": is larger than 64 MB: not a scene file");
+    }
+  }
+  ::close(fd);
+  // An HDF5 file (a checkpoint or a run.h5) given where a scene belongs.
+  if (text.compare(0, 8, std::string("\x89HDF\r\n\x1a\n", 8)) == 0)
+    throw SceneError(path + ": is an HDF5 file (a checkpoint?), not a TOML scene; to continue a run use: capsflow run --restart " + path);
+  if (text.find('\0') != std::string::npos) throw SceneError(path + ": is a binary file, not a TOML scene");
+  return text;
+}
+
+}  // namespace
+
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_scene(ss.str(), path, overrides);
+  Scene sc = parse_scene(read_scene_file(path), path, overrides);
+  // mesh.file in a scene is relative to the scene's folder (a scene and its mesh travel
+  // together); given with --set it is relative to the working directory, like any argument.
+  bool file_overridden = false;
+  for (const auto& o : overrides) file_overridden = file_overridden || o.rfind("mesh.file=", 0) == 0;
+  if (!sc.mesh.file.empty() && !file_overridden && std::filesystem::path(sc.mesh.file).is_relative())
+    sc.mesh.file = (std::filesystem::path(path).parent_path() / sc.mesh.file).lexically_normal().string();
+  return sc;
+}
+
+std::string capillary_note(const Scene& s) {
+  if (!s.flow.ca_s_from_ca_v) return "";
+  return fmt::format("Ca_s = {:g} follows from flow.ca_v = {:g} and wall.thickness = {:g} (Ca_s = Ca_v/thickness): "
+                     "changing only the thickness changes Ca_s too; give flow.ca_s to keep it fixed",
+                     s.flow.ca_s, s.flow.ca_v, s.wall.thickness);
 }
 
 nlohmann::json to_json(const Scene& s) {

@@ -4,12 +4,21 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
 #include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/h5.hpp"
+#include "capsflow/core/io/output_folder.hpp"
 
 namespace fs = std::filesystem;
 
@@ -20,9 +29,10 @@ struct Result {
   std::string out, err;
 };
 
-Result run(const std::string& args, const fs::path& dir) {
+// `capsflow ARGS`, or with with_exe = false the whole command line ARGS (e.g. under timeout).
+Result run(const std::string& args, const fs::path& dir, bool with_exe = true) {
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(CAPSFLOW_EXE) + " " + args + " > " + out.string() + " 2> " + err.string();
+  const std::string cmd = (with_exe ? std::string(CAPSFLOW_EXE) + " " : std::string()) + args + " > " + out.string() + " 2> " + err.string();
   const int status = std::system(cmd.c_str());
   auto slurp = [](const fs::path& p) {
     std::ifstream in(p);
@@ -43,6 +53,77 @@ struct TempDir {
 };
 
 int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Every file of a folder with its bytes: to show that a refused command changed nothing.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::directory_iterator(dir)) files[e.path().filename().string()] = slurp(e.path());
+  return files;
+}
+
+nlohmann::json summary_of(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "summary.json")); }
+
+// The t column of timeseries.csv.
+std::vector<double> csv_times(const fs::path& dir) {
+  std::ifstream in(dir / "timeseries.csv");
+  std::vector<double> t;
+  std::string line;
+  std::getline(in, line);  // header; t is the first column
+  while (std::getline(in, line)) t.push_back(std::stod(line.substr(0, line.find(','))));
+  return t;
+}
+
+// capsflow started in the background with the environment of a user's shell (no
+// OMP_WAIT_POLICY, no CAPSFLOW_NO_REEXEC: it re-executes itself once).
+pid_t spawn(const std::string& args, const fs::path& dir) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::unsetenv("OMP_WAIT_POLICY");
+    ::unsetenv("CAPSFLOW_NO_REEXEC");
+    const std::string cmd = "exec " + std::string(CAPSFLOW_EXE) + " " + args + " > " + (dir / "stdout.txt").string() +
+                            " 2> " + (dir / "stderr.txt").string();
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Waits up to `seconds` for `pid`; returns its exit code, or -1 after killing it (a hang).
+int wait_or_kill(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < end) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return -1;
+}
+
+bool wait_for_file(const fs::path& p, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    if (fs::exists(p)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+// The start-up line of a restart: "output: DIR (restart from t = T)", T as {:g}.
+std::string fmt_restart_from(double t) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "(restart from t = %g)", t);
+  return buf;
+}
+
+// A run that may hang on the old code is bounded: timeout(1) ends it after 120 s (exit 124).
+const char* kBounded = "timeout -k 10 120 ";
 
 // A tiny, fast scene: 320 elements, membrane wall.
 const char* kTiny = "--set mesh.level=2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.2 --threads 2";
@@ -126,4 +207,209 @@ TEST(Cli, VersionPrintsGitAndDependencies) {
   EXPECT_NE(r.out.find("\"eigen\""), std::string::npos);
   EXPECT_NE(r.out.find("\"hdf5\""), std::string::npos);
   EXPECT_NE(r.out.find("git"), std::string::npos);
+}
+
+// ---- issue 14: data safety and input hardening ----
+
+TEST(Cli, RestartRefusesAFolderOfAnotherRunAndLeavesItUntouched) {
+  // Item 1. `--restart A/checkpoint.h5 -o B` with B another, finished run: B's later steps were
+  // deleted, timeseries.csv cut, checkpoint and summary replaced by A's, with exit 0.
+  TempDir d;
+  const fs::path a = d.path / "a", b = d.path / "b";
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.1 -o " + a.string(), d.path).code, 0);
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.2 -o " + b.string(), d.path).code, 0);
+  const auto before = snapshot(b);
+  const Result r = run("run --threads 2 --restart " + (a / "checkpoint.h5").string() + " --set time.t_end=0.3 -o " + b.string(), d.path);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("belongs to another run"), std::string::npos) << r.err;
+  EXPECT_EQ(snapshot(b), before);  // every file byte for byte
+  // The run id is in run.h5, the checkpoint and the summary alike.
+  const std::string id = summary_of(a).at("run_id");
+  EXPECT_EQ(id.size(), 32u);
+  EXPECT_EQ(capsflow::io::read_checkpoint(a / "checkpoint.h5").run_id, id);
+  EXPECT_EQ(capsflow::io::h5::File::open(a / "run.h5").read_string("metadata/run_id"), id);
+  EXPECT_NE(summary_of(b).at("run_id"), id);
+  EXPECT_EQ(summary_of(a).at("mesh_hash"), summary_of(b).at("mesh_hash"));  // same mesh, yet another run
+}
+
+TEST(Cli, RestartIntoANewFolderStartsThereAndReferencesTheHistory) {
+  // Items 1 and 5: `--restart` could not write into a new or empty folder.
+  TempDir d;
+  const fs::path a = d.path / "a", c = d.path / "c", e = d.path / "empty";
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.2 -o " + a.string(), d.path).code, 0);
+  const auto before = snapshot(a);
+  const Result r = run("run --threads 2 --restart " + (a / "checkpoint.h5").string() + " --set time.t_end=0.3 -o " + c.string(), d.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(snapshot(a), before);  // the parent run is only read
+  // History referenced, not copied: C's series start at the checkpoint time.
+  EXPECT_EQ(csv_times(c), (std::vector<double>{0.2, 0.3}));  // exact: the last step lands on t_end
+  const auto f = capsflow::io::h5::File::open(c / "run.h5");
+  EXPECT_EQ(f.read_string("metadata/parent_run_id"), summary_of(a).at("run_id").get<std::string>());
+  EXPECT_EQ(f.read_string("metadata/parent_checkpoint"), fs::absolute(a / "checkpoint.h5").lexically_normal().string());
+  EXPECT_EQ(f.open_group("metadata").attribute_double("t_start"), 0.2);
+  EXPECT_NE(summary_of(c).at("run_id"), summary_of(a).at("run_id"));
+  EXPECT_EQ(summary_of(c).at("steps"), capsflow::io::read_checkpoint(c / "checkpoint.h5").step);
+  // An existing empty folder, and --restart given a folder (its checkpoint.h5).
+  fs::create_directories(e);
+  const Result re = run("run --threads 2 --restart " + a.string() + " --set time.t_end=0.3 -o " + e.string(), d.path);
+  EXPECT_EQ(re.code, 0) << re.err;
+  EXPECT_EQ(csv_times(e), csv_times(c));
+}
+
+TEST(Cli, RestartOverridesAreAppliedOrRefused) {
+  // Item 5: mesh keys were ignored but recorded, wall.model switched silently, and a changed
+  // output.every reused the old output index (3·0.05 = 0.15 < t = 0.2: a negative step).
+  TempDir d;
+  const fs::path a = d.path / "a";
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.2 -o " + a.string(), d.path).code, 0);
+  const auto before = snapshot(a);
+  const std::string restart = "run --threads 2 --restart " + (a / "checkpoint.h5").string() + " --set time.t_end=0.4 ";
+  for (const std::string set : {"--set mesh.level=3", "--set mesh.shape=sphere", "--set wall.model=gsmb"}) {
+    const Result r = run(restart + set, d.path);
+    EXPECT_EQ(r.code, 1) << set;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("capsflow: error: " + set.substr(0, set.find('=')) + ": "), std::string::npos) << r.err;
+    EXPECT_EQ(snapshot(a), before) << set;
+  }
+  const Result r = run(restart + "--set output.every=0.05", d.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<double> t = csv_times(a);
+  ASSERT_EQ(t.size(), 3u + 4u) << "0, 0.1, 0.2, then every 0.05 to 0.4";
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(t[3 + k], 0.25 + 0.05 * k, 1e-12);  // k·0.05 in doubles: within 1 ulp
+  EXPECT_EQ(summary_of(a).at("scene").at("output").at("every"), 0.05);
+}
+
+TEST(Cli, EveryFileWrittenIsInTheManifestAndOverwriteKeepsTheRest) {
+  // Item 2: --overwrite removed `log`, `capsflow.log` and any checkpoint*.h5, including the log
+  // of this very command (`> out/log`).
+  TempDir d;
+  const fs::path out = d.path / "out";
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.2 --set output.checkpoint_every=0.05 -o " + out.string(), d.path).code, 0);
+  ASSERT_EQ(run("run --threads 2 --restart " + out.string() + " --set time.t_end=0.3", d.path).code, 0);
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_TRUE(capsflow::io::is_capsflow_output_name(e.path().filename().string())) << e.path();
+  std::ofstream(out / "capsflow.log") << "earlier log";
+  std::ofstream(out / "checkpoint_backup_from_cluster.h5") << "precious";
+  const std::string cmd = std::string(CAPSFLOW_EXE) + " run " + kTiny + " --set time.t_end=0.1 --overwrite -o " + out.string() +
+                          " > " + (out / "log").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_NE(slurp(out / "log").find("stopped: t_end"), std::string::npos);  // its own log survived
+  EXPECT_EQ(slurp(out / "capsflow.log"), "earlier log");
+  EXPECT_EQ(slurp(out / "checkpoint_backup_from_cluster.h5"), "precious");
+  EXPECT_FALSE(fs::exists(out / "checkpoint.prev.h5"));  // the earlier run's files are gone
+  EXPECT_EQ(summary_of(out).at("t"), 0.1);
+}
+
+TEST(Cli, AFullDiskIsAOneLineErrorWithExitCode1NotACrash) {
+  // Item 3. A file-size limit (RLIMIT_FSIZE, SIGXFSZ ignored) fails writes like a full disk,
+  // without privileges. capsflow printed the HDF5 error, then crashed in HDF5's exit handler
+  // (exit 139). Limits of 20 kB and 50 kB break run.h5 at different steps.
+  TempDir d;
+  for (const int blocks : {40, 100}) {  // 512-byte blocks (dash's ulimit -f)
+    const fs::path out = d.path / ("out" + std::to_string(blocks));
+    const std::string cmd = "sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(blocks) + "; exec " + CAPSFLOW_EXE + " run " + kTiny +
+                            " --set time.t_end=1 --set output.every=0.01 --set output.checkpoint_every=0.02 -o " + out.string() +
+                            "\" > " + (d.path / "o.txt").string() + " 2> " + (d.path / "e.txt").string();
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 1) << blocks;
+    const std::string err = slurp(d.path / "e.txt");
+    EXPECT_EQ(count_lines(err), 1) << err;
+    EXPECT_EQ(err.rfind("capsflow: error: ", 0), 0u) << err;
+    EXPECT_NE(err.find("File too large"), std::string::npos) << err;
+    // Whatever checkpoint made it to disk is complete: a damaged one is never renamed into place.
+    for (const char* ck : {"checkpoint.h5", "checkpoint.prev.h5"}) {
+      if (fs::exists(out / ck)) {
+        EXPECT_NO_THROW(capsflow::io::read_checkpoint(out / ck)) << blocks << " " << ck;
+      }
+    }
+  }
+}
+
+TEST(Cli, ADamagedLatestCheckpointFallsBackToThePreviousOneSayingSo) {
+  // Item 3: "checksum mismatch: the file is damaged", without a word about checkpoint.prev.h5.
+  TempDir d;
+  const fs::path out = d.path / "out";
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.2 --set output.checkpoint_every=0.1 -o " + out.string(), d.path).code, 0);
+  const double t_prev = capsflow::io::read_checkpoint(out / "checkpoint.prev.h5").t;
+  {
+    capsflow::io::h5::File f = capsflow::io::h5::File::open(out / "checkpoint.h5", capsflow::io::h5::File::Mode::read_write);
+    f.write_string("scene_toml", "");  // what a full disk left behind
+    f.close();
+  }
+  const Result r = run("run --threads 2 --restart " + (out / "checkpoint.h5").string() + " --set time.t_end=0.3", d.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("checksum mismatch"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("continuing from the previous checkpoint " + (out / "checkpoint.prev.h5").string()), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(fmt_restart_from(t_prev)), std::string::npos) << r.out;
+  EXPECT_EQ(summary_of(out).at("t"), 0.3);
+}
+
+TEST(Cli, SigintStopsARunWithAHugeTEndAndTheProcessIsNamedCapsflow) {
+  // Item 4: t_end = 1e308 looped for ever after one step (the checkpoint-index loop, with
+  // 1e-12·t_end = 1e296 as "tolerance") and ignored SIGINT. Item 7: the re-execution through
+  // /proc/self/exe named the process "exe" in ps.
+  TempDir d;
+  const fs::path out = d.path / "out";
+  const pid_t pid = spawn(std::string("run ") + kTiny + " --set time.t_end=1e308 -o " + out.string(), d.path);
+  ASSERT_TRUE(wait_for_file(out / "run.xmf", 60)) << slurp(d.path / "stderr.txt");  // first output: handlers installed
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // some steps into the loop
+  std::string comm = slurp("/proc/" + std::to_string(pid) + "/comm");
+  EXPECT_EQ(comm, "capsflow\n");
+  ::kill(pid, SIGINT);
+  EXPECT_EQ(wait_or_kill(pid, 60), 130) << slurp(d.path / "stderr.txt");  // a prompt stop, not a hang
+  const auto s = summary_of(out);
+  EXPECT_EQ(s.at("stop_reason"), "interrupted");
+  EXPECT_LT(s.at("t").get<double>(), 100.0);  // times were not snapped to output times by a 1e296 tolerance
+  EXPECT_NO_THROW(capsflow::io::read_checkpoint(out / "checkpoint.h5"));
+}
+
+TEST(Cli, AStepWithoutProgressStopsWithANamedReason) {
+  // Item 4: gradient entries of 1e300 give |L| = inf, a flow-capped dt = 0 and a loop without
+  // progress whose interrupt then failed to checkpoint (dt = 0 was refused).
+  TempDir d;
+  const fs::path out = d.path / "out";
+  const Result r = run(std::string(kBounded) + CAPSFLOW_EXE + " run " + kTiny +
+                           " --set flow.type=linear --set 'flow.gradient=[[1e300,0,0],[0,0,0],[0,0,-1e300]]' -o " + out.string(),
+                       d.path, false);
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.out.find("no progress at step 1"), std::string::npos) << r.out;
+  EXPECT_EQ(summary_of(out).at("stop_reason"), "no_progress");
+  EXPECT_NO_THROW(capsflow::io::read_checkpoint(out / "checkpoint.h5"));
+}
+
+TEST(Cli, CommandLineMessages) {
+  TempDir d;
+  // Item 7: --threads -1 printed the range "0.000000 to 179769313486231570814527423731704356798070...".
+  const Result t = run("run --threads -1", d.path);
+  EXPECT_EQ(t.code, 2);  // command-line errors: exit code 2
+  EXPECT_NE(t.err.find("--threads: Value -1 not in range 0 to 4096"), std::string::npos) << t.err;
+  EXPECT_EQ(t.err.find("17976931348623157"), std::string::npos) << t.err;
+  // --restart DIR without a checkpoint: once two lines of raw HDF5 text ("errno = 21, ... buf = 0x...").
+  fs::create_directories(d.path / "empty");
+  const Result r = run("run --restart " + (d.path / "empty").string(), d.path);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("checkpoint.h5': no such file"), std::string::npos) << r.err;
+  // A checkpoint given as the scene.
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.05 -o " + (d.path / "a").string(), d.path).code, 0);
+  const Result s = run("info " + (d.path / "a" / "checkpoint.h5").string(), d.path);
+  EXPECT_EQ(s.code, 1);
+  EXPECT_NE(s.err.find("is an HDF5 file (a checkpoint?), not a TOML scene; to continue a run use: capsflow run --restart"),
+            std::string::npos) << s.err;
+}
+
+TEST(Cli, InfoCountsTheStepsOutputTimesForceAndNotesTheCapillaryNumber) {
+  TempDir d;
+  // Item 7: `info` said "about 2 steps" (t_end/dt) where outputs every 1e-4 force one step each.
+  const Result r = run("info --set mesh.level=1 --set time.t_end=0.01 --set output.every=0.0001", d.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("about 100 steps to t_end = 0.01"), std::string::npos) << r.out;
+  // Item 7: the default scene gives ca_v, so a thicker wall silently meant a smaller Ca_s.
+  const Result n = run("info --set mesh.level=1 --set wall.thickness=0.06", d.path);
+  EXPECT_NE(n.out.find("# note: Ca_s = 0.05 follows from flow.ca_v = 0.003 and wall.thickness = 0.06"), std::string::npos) << n.out;
+  const Result g = run("run --set mesh.level=1 --set wall.thickness=0.06 --set time.t_end=0.01 --threads 2 -o " + (d.path / "o").string(), d.path);
+  ASSERT_EQ(g.code, 0) << g.err;
+  EXPECT_NE(g.out.find("note: Ca_s = 0.05 follows from flow.ca_v"), std::string::npos) << g.out;
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include "capsflow/core/io/checkpoint.hpp"
 #include "capsflow/core/io/h5.hpp"
@@ -174,6 +175,113 @@ TEST(Checkpoint, NonFiniteStateIsNotWrittenAndKeepsTheLastGoodOne) {
   EXPECT_THROW(write_checkpoint(path, bad), std::runtime_error);
   EXPECT_EQ(read_checkpoint(path).t, sample_state(1).t);  // untouched
   EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"checkpoint.h5"});
+}
+
+TEST(Checkpoint, RunIdRoundTripsAndOldFilesWithoutOneStillRead) {
+  TempDir dir;
+  CheckpointState s = sample_state(1);
+  s.run_id = "0123456789abcdef0123456789abcdef";
+  write_checkpoint(dir / "checkpoint.h5", s);
+  EXPECT_EQ(read_checkpoint(dir / "checkpoint.h5").run_id, s.run_id);
+  // A file from before run ids: no attribute, and the checksum does not include it.
+  s.run_id.clear();
+  write_checkpoint(dir / "old.h5", s);
+  {
+    h5::File f = h5::File::open(dir / "old.h5");
+    EXPECT_FALSE(f.has_attribute("run_id"));
+    EXPECT_TRUE(f.has_attribute("mesh_hash"));
+  }
+  EXPECT_EQ(read_checkpoint(dir / "old.h5").run_id, "");
+}
+
+TEST(Checkpoint, AStateBeforeTheFirstStepHasDtZero) {
+  // An interrupt before the first step writes dt = 0; it was refused ("dt = 0 is not positive"),
+  // so the interrupted run ended with an error and no checkpoint.
+  TempDir dir;
+  CheckpointState s = sample_state(1);
+  s.dt = 0;
+  write_checkpoint(dir / "checkpoint.h5", s);
+  EXPECT_EQ(read_checkpoint(dir / "checkpoint.h5").dt, 0.0);
+  s.dt = -1e-3;
+  EXPECT_NE(error_of([&] { write_checkpoint(dir / "checkpoint.h5", s); }).find("dt = -0.001 is negative"), std::string::npos);
+}
+
+TEST(Checkpoint, ADamagedWriteIsNeverRenamedIntoPlace) {
+  // A full disk produced checkpoints that closed without an error but held zeroed data; they
+  // were renamed over the last good file. Simulate it: damage the temporary between the write
+  // and the rename. The damage is one changed number (the checksum catches it) and, second,
+  // a zeroed tail (HDF5 cannot read it).
+  TempDir dir;
+  const auto path = dir / "checkpoint.h5";
+  write_checkpoint(path, sample_state(1));
+  write_checkpoint(path, sample_state(2));
+  const std::vector<std::function<void(const std::filesystem::path&)>> damages = {
+      [](const std::filesystem::path& tmp) {
+        h5::File f = h5::File::open(tmp, h5::File::Mode::read_write);
+        h5::RowMatrixXd x = f.read_matrix<double>("positions");
+        x(0, 0) = 0;
+        f.write_matrix("positions", x);
+        f.close();
+      },
+      [](const std::filesystem::path& tmp) {
+        const auto n = std::filesystem::file_size(tmp);
+        std::filesystem::resize_file(tmp, n / 2);
+        std::filesystem::resize_file(tmp, n);  // same size, second half zeros
+      }};
+  for (const auto& damage : damages) {
+    set_checkpoint_write_hook_for_tests(damage);
+    const std::string msg = error_of([&] { write_checkpoint(path, sample_state(3)); });
+    set_checkpoint_write_hook_for_tests(nullptr);
+    EXPECT_EQ(msg.rfind("checkpoint '" + path.string() + "': the file just written", 0), 0u) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    // Both slots untouched, no temporary left.
+    EXPECT_EQ(read_checkpoint(path).t, sample_state(2).t);
+    EXPECT_EQ(read_checkpoint(dir / "checkpoint.prev.h5").t, sample_state(1).t);
+    EXPECT_EQ(listing(dir.path()), (std::vector<std::string>{"checkpoint.h5", "checkpoint.prev.h5"}));
+  }
+}
+
+TEST(Checkpoint, ADamagedNewestFileDoesNotPushOutThePreviousOne) {
+  TempDir dir;
+  const auto path = dir / "checkpoint.h5";
+  write_checkpoint(path, sample_state(1));
+  write_checkpoint(path, sample_state(2));
+  testing::write_text(path, std::string(4096, 'x'));  // the newest is garbage
+  write_checkpoint(path, sample_state(3));
+  EXPECT_EQ(read_checkpoint(path).t, sample_state(3).t);
+  EXPECT_EQ(read_checkpoint(dir / "checkpoint.prev.h5").t, sample_state(1).t);  // still the good one
+}
+
+TEST(Checkpoint, RestartFallsBackToThePreviousSlotAndSaysWhy) {
+  TempDir dir;
+  const auto path = dir / "checkpoint.h5";
+  write_checkpoint(path, sample_state(1));
+  write_checkpoint(path, sample_state(2));
+  {
+    h5::File f = h5::File::open(path, h5::File::Mode::read_write);
+    f.write_string("scene_toml", "");  // what the full disk left: empty strings
+  }
+  const LoadedCheckpoint l = load_checkpoint_for_restart(path);
+  EXPECT_EQ(l.path, dir / "checkpoint.prev.h5");
+  EXPECT_EQ(l.state.t, sample_state(1).t);
+  EXPECT_NE(l.fallback_reason.find("checksum mismatch"), std::string::npos) << l.fallback_reason;
+  // A folder means its checkpoint.h5 (with the same fallback).
+  EXPECT_EQ(load_checkpoint_for_restart(dir.path()).path, dir / "checkpoint.prev.h5");
+  // An explicit previous slot, or both damaged: an error naming both problems.
+  testing::write_text(dir / "checkpoint.prev.h5", "garbage");
+  const std::string msg = error_of([&] { load_checkpoint_for_restart(path); });
+  EXPECT_NE(msg.find("checksum mismatch"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("the previous one is not usable either"), std::string::npos) << msg;
+}
+
+TEST(Checkpoint, AFolderIsNamedAsSuchNotWithRawHdf5Text) {
+  TempDir dir;
+  std::filesystem::create_directory(dir / "run");
+  const std::string msg = error_of([&] { read_checkpoint(dir / "run"); });
+  EXPECT_NE(msg.find("is a folder, not a checkpoint file"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("errno"), std::string::npos) << msg;  // once: "... errno = 21, error message = 'Is a directory', buf = 0x..."
+  const std::string viaRestart = error_of([&] { load_checkpoint_for_restart(dir / "run"); });
+  EXPECT_NE(viaRestart.find("checkpoint.h5': no such file"), std::string::npos) << viaRestart;
 }
 
 }  // namespace

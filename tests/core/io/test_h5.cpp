@@ -1,7 +1,10 @@
 // h5: dataset and attribute round trips, existence and listing, errors as exceptions.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <cmath>
+#include <csignal>
 #include <limits>
 
 #include "capsflow/core/io/h5.hpp"
@@ -130,6 +133,35 @@ TEST(H5, ReadOnlyFileRejectsWrites) {
 TEST(H5, LibraryVersionLooksLikeMajorMinorRelease) {
   const std::string v = h5::library_version();
   EXPECT_EQ(std::count(v.begin(), v.end(), '.'), 2) << v;
+}
+
+TEST(H5, AFullDiskGivesOneLineWithTheSystemsReason) {
+  // RLIMIT_FSIZE makes writes beyond the limit fail (EFBIG) exactly like a full disk, without
+  // privileges. SIGXFSZ is ignored so that write() returns the error instead of killing us.
+  TempDir dir;
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+  rlimit small = old;
+  small.rlim_cur = 64 * 1024;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  std::string msg;
+  try {
+    h5::File f = h5::File::create(dir / "big.h5");
+    f.write_matrix("x", Points::Ones(100000, 3));  // 2.4 MB
+    f.close();
+  } catch (const std::runtime_error& e) {
+    msg = e.what();
+  }
+  setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, old_handler);
+  ASSERT_FALSE(msg.empty());
+  // Was "file write failed: time = <ctime>\n, filename = ..., errno = 27, error message = 'File
+  // too large', buf = 0x..., total write size = ...": two lines of internals.
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  EXPECT_NE(msg.find("big.h5"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(": File too large"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("buf = "), std::string::npos) << msg;
 }
 
 }  // namespace

@@ -121,3 +121,42 @@ TEST(MeshTopology, InwardMeshIsFlipped) {
   EXPECT_TRUE(validate_closed_surface(m));  // consistently inward: flipped, reported
   EXPECT_GT(enclosed_volume(m), 0);
 }
+
+TEST(MeshTopology, PinchedSurfaceIsRejected) {
+  // Every topological check passes when one vertex is moved onto another, non-adjacent one: the
+  // surface then touches itself at a point. Vertex 0 and the vertex farthest from it are not
+  // neighbours on the level-2 icosphere.
+  const SurfaceMesh sphere = make_sphere_mesh(BaseSolid::Icosahedron, 2);
+  Eigen::Index far = 0;
+  (sphere.vertices.rowwise() - sphere.vertices.row(0)).rowwise().norm().maxCoeff(&far);
+  SurfaceMesh m = sphere;
+  m.vertices.row(far) = m.vertices.row(0);
+  const std::string e = error_of(m);
+  EXPECT_NE(e.find("vertices 0 and " + std::to_string(far) + " are at the same position"), std::string::npos) << e;
+  EXPECT_NE(e.find("pinched"), std::string::npos) << e;
+  EXPECT_EQ(e.find("merge duplicate"), std::string::npos) << e;  // one pair is a pinch, not a soup
+  // Nearly touching counts too: 1e-9 of the radius is far inside the 1e-6·(mean edge) tolerance.
+  SurfaceMesh n = sphere;
+  n.vertices.row(far) = n.vertices.row(0) * (1 + 1e-9);
+  EXPECT_NE(error_of(n).find("pinched"), std::string::npos) << error_of(n);
+}
+
+TEST(MeshTopology, TriangleSoupSuggestsMergingDuplicateVertices) {
+  // Each triangle with its own three vertices (STL converted to OFF): nothing is connected.
+  const SurfaceMesh m = octa();
+  SurfaceMesh soup;
+  soup.vertices.resize(3 * m.num_elements(), 3);
+  soup.triangles.resize(m.num_elements(), 3);
+  for (Eigen::Index e = 0; e < m.num_elements(); ++e)
+    for (int k = 0; k < 3; ++k) {
+      soup.vertices.row(3 * e + k) = m.vertices.row(m.triangles(e, k));
+      soup.triangles(e, k) = static_cast<int>(3 * e + k);
+    }
+  const std::string e = error_of(soup);
+  EXPECT_NE(e.find("not closed"), std::string::npos) << e;
+  EXPECT_NE(e.find("24 of the 24 vertices share their position"), std::string::npos) << e;
+  EXPECT_NE(e.find("merge duplicate vertices"), std::string::npos) << e;
+  // An ordinary open surface gets no such hint.
+  SurfaceMesh open{m.vertices, m.triangles.topRows(7)};
+  EXPECT_EQ(error_of(open).find("merge"), std::string::npos) << error_of(open);
+}

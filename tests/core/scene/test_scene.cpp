@@ -2,7 +2,10 @@
 // (syntax, unknown key/section, wrong type, out of range, inconsistent keys).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
 
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/geometry/measures.hpp"
@@ -106,4 +109,77 @@ TEST(SceneErrors, InconsistentKeys) {
   EXPECT_NE(error_of("[flow]\ntype = \"linear\"\n").find("flow.gradient: required"), std::string::npos);
   EXPECT_NE(error_of("[flow]\ntype = \"linear\"\ngradient = [[1,0,0],[0,1,0],[0,0,1]]\n").find("trace-free"), std::string::npos);
   EXPECT_NE(error_of("[flow]\ngradient = [[0,1,0],[0,0,0],[0,0,0]]\n").find("only used with"), std::string::npos);
+}
+
+namespace {
+std::string load_error(const std::string& path, const std::vector<std::string>& overrides = {}) {
+  try {
+    load_scene(path, overrides);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+struct SceneDir {
+  std::filesystem::path path = std::filesystem::temp_directory_path() /
+                               ("capsflow-scene-" + std::to_string(::getpid()) + "-" +
+                                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  SceneDir() { std::filesystem::create_directories(path); }
+  ~SceneDir() { std::filesystem::remove_all(path); }
+  std::string file(const std::string& name, const std::string& text) const {
+    std::ofstream(path / name, std::ios::binary) << text;
+    return (path / name).string();
+  }
+};
+}  // namespace
+
+TEST(SceneErrors, OverrideOfAnUnknownSectionNamesTheOverride) {
+  // Once "<built-in default>: foo: unknown section": the file was blamed for the command line.
+  const std::string e = error_of(default_scene_toml(), {"foo.bar=1"});
+  EXPECT_EQ(e.rfind("--set foo.bar: unknown section [foo]", 0), 0u) << e;
+  // A section that is in the file is still reported at its line.
+  EXPECT_NE(error_of("[foo]\nx = 1\n", {"foo.y=2"}).find("s.toml:1: foo: unknown section"), std::string::npos);
+}
+
+TEST(SceneFiles, MissingFolderUnreadableAndBinaryFilesAreTold) {
+  SceneDir d;
+  const std::string missing = load_error((d.path / "nope.toml").string());
+  EXPECT_NE(missing.find("nope.toml: scene file not found"), std::string::npos) << missing;
+  // A folder was read as an empty scene: the run went ahead with the defaults.
+  const std::string folder = load_error(d.path.string());
+  EXPECT_NE(folder.find("is a folder, not a scene file"), std::string::npos) << folder;
+  // A checkpoint passed as a scene was "invalid UTF-8".
+  const std::string h5 = load_error(d.file("checkpoint.h5", std::string("\x89HDF\r\n\x1a\n", 8) + std::string(64, '\0')));
+  EXPECT_NE(h5.find("is an HDF5 file (a checkpoint?), not a TOML scene; to continue a run use: capsflow run --restart"),
+            std::string::npos) << h5;
+  EXPECT_NE(load_error(d.file("blob.toml", std::string("[mesh]\0\1", 8))).find("is a binary file"), std::string::npos);
+  // Unreadable: /proc/sys/vm/drop_caches is write-only even for root (tests run as root in CI).
+  const std::string wo = "/proc/sys/vm/drop_caches";
+  if (std::filesystem::exists(wo)) {
+    const std::string e = load_error(wo);
+    EXPECT_NE(e.find("cannot read scene file: "), std::string::npos) << e;
+    EXPECT_EQ(e.find("not found"), std::string::npos) << e;
+  }
+}
+
+TEST(SceneFiles, MeshFileIsRelativeToTheScenesFolder) {
+  SceneDir d;
+  std::filesystem::create_directories(d.path / "scenes" / "meshes");
+  const std::string scene = d.file("scenes/capsule.toml", "[mesh]\nfile = \"meshes/cell.off\"\n");
+  EXPECT_EQ(load_scene(scene).mesh.file, (d.path / "scenes" / "meshes" / "cell.off").string());
+  // From the command line a path is relative to the working directory, like any argument.
+  EXPECT_EQ(load_scene(scene, {"mesh.file=here.off"}).mesh.file, "here.off");
+  const std::string abs = d.file("scenes/abs.toml", "[mesh]\nfile = \"/data/cell.off\"\n");
+  EXPECT_EQ(load_scene(abs).mesh.file, "/data/cell.off");
+}
+
+TEST(Scene, CapillaryNoteWhenCaSFollowsFromCaV) {
+  // The default scene gives ca_v: Ca_s = 0.003/α moves with wall.thickness.
+  const Scene thick = parse_scene(default_scene_toml(), "d", {"wall.thickness=0.06"});
+  EXPECT_NEAR(thick.flow.ca_s, 0.05, 1e-15);  // 0.003/0.06, one rounding
+  const std::string note = capillary_note(thick);
+  EXPECT_NE(note.find("Ca_s = 0.05 follows from flow.ca_v = 0.003 and wall.thickness = 0.06"), std::string::npos) << note;
+  EXPECT_NE(note.find("give flow.ca_s"), std::string::npos) << note;
+  EXPECT_EQ(capillary_note(parse_scene(default_scene_toml(), "d", {"flow.ca_s=0.1"})), "");
+  EXPECT_NE(capillary_note(parse_scene("", "empty")), "");  // neither given: the default ca_v applies
 }

@@ -20,7 +20,7 @@ struct RunOptions {
   double progress_interval = 2.0;  // seconds of wall time between status lines
 };
 
-// Returns the process exit code: 0 for t_end/steady, 3 for blow_up, 130 for interrupted.
+// Returns the process exit code: 0 for t_end/steady, 3 for blow_up/no_progress, 130 for interrupted.
 // Throws std::runtime_error (one line) for set-up errors before any step was taken.
 int run_simulation(const RunOptions& options);
 

@@ -1,15 +1,17 @@
 #pragma once
 // Full-state checkpoints for `--restart` (docs/scene-and-output.md §3.6, docs/time-integration.md §5.5).
 //
-// write_checkpoint writes `<path>.tmp.<pid>`, fsyncs it, renames the current `<path>` (if any) to
-// its previous slot (checkpoint.h5 → checkpoint.prev.h5), renames the temporary to `<path>` and
-// fsyncs the folder. Whenever the run is killed, at least one complete, valid checkpoint exists:
+// write_checkpoint writes `<path>.tmp.<pid>`, fsyncs it, reads it back and compares checksums
+// (a full disk has produced files that closed without error but held zeroed data), renames the
+// current `<path>` (if any, and only if it is itself readable) to its previous slot
+// (checkpoint.h5 → checkpoint.prev.h5), renames the temporary to `<path>` and fsyncs the folder. Whenever the run is killed, at least one complete, valid checkpoint exists:
 // the new one, the previous one, or (between the two renames) the previous one in its slot;
 // find_latest_checkpoint picks the right one.
 //
 // File layout (HDF5, format_version 1):
 //   attributes on "/": format = "capsflow-checkpoint", format_version, step, t, dt, version,
-//                      checksum (FNV-1a 64 of the whole state, hex; verified on read)
+//                      run_id (io/run_identity.hpp; absent before run ids), mesh_hash (for
+//                      readers), checksum (FNV-1a 64 of the whole state, hex; verified on read)
 //   datasets: positions [N,3], reference_positions [N,3], triangles int32 [M,3],
 //             wall_state [n] (opaque), history [r,c] (opaque), scene_toml, scene_resolved,
 //             extra (strings); integrator_state [r,c] (opaque; optional: absent in files written
@@ -18,6 +20,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "capsflow/core/types.hpp"
@@ -41,6 +44,7 @@ struct CheckpointState {
   std::string scene_resolved;  // the fully resolved scene, JSON text
   std::string version;         // capsflow version + git hash that wrote it
   std::string extra;           // opaque integrator state (JSON text: next output time, ...)
+  std::string run_id;          // the run it belongs to (io/run_identity.hpp); empty in old files
 };
 
 // "checkpoint.h5" → "checkpoint.prev.h5" (same folder).
@@ -57,6 +61,20 @@ CheckpointState read_checkpoint(const std::filesystem::path& path);
 
 // Throws std::runtime_error "checkpoint '<name>': <problem>" if `state` is inconsistent.
 void validate_checkpoint(const CheckpointState& state, const std::string& name);
+
+// `--restart PATH`: reads PATH (a folder means PATH/checkpoint.h5). If that is damaged or missing
+// and PATH is a checkpoint.h5 whose previous slot reads, returns the previous one instead, with
+// the reason in fallback_reason (the caller says so). Throws with both reasons otherwise.
+struct LoadedCheckpoint {
+  CheckpointState state;
+  std::filesystem::path path;   // the file actually read
+  std::string fallback_reason;  // non-empty when the previous slot was used
+};
+LoadedCheckpoint load_checkpoint_for_restart(const std::filesystem::path& path);
+
+// Tests only: called with the temporary file after it was written and synced, before it is
+// verified and renamed (to damage it as a full disk would). An empty function removes the hook.
+void set_checkpoint_write_hook_for_tests(std::function<void(const std::filesystem::path& tmp)> hook);
 
 // The newest valid checkpoint in `folder`: checkpoint.h5, else checkpoint.prev.h5 (the write was
 // interrupted between its two renames, or the newest file is damaged). Throws if neither reads.

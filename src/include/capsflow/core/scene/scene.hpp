@@ -44,6 +44,7 @@ struct FlowSpec {
   double ca_s = 0.1;                       // μγ̇ℓ/G_s
   double ca_v = 0.003;                     // μγ̇/G = ca_s·α (GSMB only; NaN for a membrane without thickness)
   Mat3 gradient = Mat3::Zero();            // velocity gradient L (v∞ = L x), resolved for every type
+  bool ca_s_from_ca_v = true;              // ca_s not given: derived from ca_v (given or default) and the thickness
 };
 
 struct TimeSpec {
@@ -88,7 +89,14 @@ const std::string& default_scene_toml();
 // Parse TOML text (name is used in messages), apply "key.path=value" overrides, validate, resolve.
 Scene parse_scene(const std::string& toml_text, const std::string& name,
                   const std::vector<std::string>& overrides = {});
+// Reads a scene file: a missing file, a folder, an unreadable file and an HDF5 or binary file
+// each have their own message. A relative mesh.file in the file is resolved against the scene's
+// folder (one given with --set against the working directory).
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// When Ca_s is derived from Ca_v (flow.ca_s not given), a one-line note that Ca_s = Ca_v/thickness
+// moves with the thickness (printed by `capsflow info` and at the start of a run); else "".
+std::string capillary_note(const Scene& scene);
 
 nlohmann::json to_json(const Scene& scene);
 // Canonical TOML of the resolved scene (every key explicit), for output and restarts.
