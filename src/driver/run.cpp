@@ -266,7 +266,8 @@ StepOutcome Simulation::advance() {
   o.dt = tau;
   if (!(o.progress = step_makes_progress(st_.t, tau))) return o;
   const Rkc::StepReport r = rkc_->step(rhs_, st_.x, tau);
-  if (std::getenv("CAPSFLOW_TRACE_STEPS"))
+  static const bool trace = std::getenv("CAPSFLOW_TRACE_STEPS") != nullptr;
+  if (trace)
     fmt::print(stderr, "TRACE t {:.5f} tau {:.4e} s {} err {:.3f} acc {} evals {} rho {:.1f}\n", st_.t, r.tau, r.stages, r.error,
                r.accepted, r.evaluations, rkc_->spectral_radius());
   o.accepted = r.accepted;

@@ -54,10 +54,10 @@ Rkc::StepReport Rkc::step(const Rhs& f, Points& x, double tau) {
     rho_ = rho_refresh_ * std::max(1.0, opt_.analytic_rho(x) / analytic_at_refresh_);
   }
   // Stage cap: a step that would need more stages is shortened to what the cap allows.
-  const double beta_max = RkcCoefficients::stability_interval(opt_.max_stages, opt_.damping);
-  if (tau * rho_ > beta_max) tau = beta_max / rho_;
+  if (tau * rho_ > beta_max_) tau = beta_max_ / rho_;
   const int s = RkcCoefficients::stages_for(tau * rho_, opt_.damping);
-  const RkcCoefficients k = RkcCoefficients::make(s, opt_.damping);
+  if (k_.stages != s) k_ = RkcCoefficients::make(s, opt_.damping);
+  const RkcCoefficients& k = k_;
   rep.tau = tau;
   rep.stages = s;
 

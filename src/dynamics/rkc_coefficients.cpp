@@ -50,7 +50,6 @@ RkcCoefficients RkcCoefficients::make(int s, double damping) {
   b[0] = b[1] = b[2];
   for (int j = 0; j <= s; ++j) a[j] = 1 - b[j] * T[j];
   k.mu.assign(s + 1, 0.0), k.nu.assign(s + 1, 0.0), k.mu_t.assign(s + 1, 0.0), k.gamma_t.assign(s + 1, 0.0);
-  k.c.assign(s + 1, 0.0);
   k.mu_t[1] = b[1] * w1;
   for (int j = 2; j <= s; ++j) {
     k.mu[j] = 2 * b[j] * w0 / b[j - 1];
@@ -58,11 +57,6 @@ RkcCoefficients RkcCoefficients::make(int s, double damping) {
     k.mu_t[j] = 2 * b[j] * w1 / b[j - 1];
     k.gamma_t[j] = -a[j - 1] * k.mu_t[j];
   }
-  // Stage abscissae: c_j = T_s'(w0) T_j''(w0) / (T_s''(w0) T_j'(w0)) for 2 ≤ j ≤ s − 1,
-  // c_1 = c_2 / T_2'(w0), c_s = 1.
-  for (int j = 2; j < s; ++j) k.c[j] = dT[s] * ddT[j] / (ddT[s] * dT[j]);
-  k.c[s] = 1;
-  k.c[1] = (s > 2 ? k.c[2] : 1.0) / dT[2];
   return k;
 }
 

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "capsflow/core/types.hpp"
+
 namespace capsflow::io::testing {
 
 class TempDir {
@@ -54,6 +56,16 @@ inline std::vector<std::string> listing(const std::filesystem::path& dir) {
   }
   std::sort(names.begin(), names.end());
   return names;
+}
+
+// A tetrahedron: the smallest closed triangulated surface (4 nodes, 4 triangles).
+inline SurfaceMesh tetrahedron() {
+  SurfaceMesh m;
+  m.vertices.resize(4, 3);
+  m.vertices << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
+  m.triangles.resize(4, 3);
+  m.triangles << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2;
+  return m;
 }
 
 }  // namespace capsflow::io::testing

@@ -15,16 +15,7 @@ namespace {
 using testing::listing;
 using testing::read_text;
 using testing::TempDir;
-
-// A tetrahedron: the smallest closed triangulated surface (4 nodes, 4 triangles).
-SurfaceMesh tetrahedron() {
-  SurfaceMesh m;
-  m.vertices.resize(4, 3);
-  m.vertices << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
-  m.triangles.resize(4, 3);
-  m.triangles << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2;
-  return m;
-}
+using testing::tetrahedron;
 
 nlohmann::json metadata() {
   return {{"scene_toml", "[mesh]\nlevel = 4\n"},

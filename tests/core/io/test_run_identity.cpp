@@ -12,15 +12,7 @@
 namespace capsflow::io {
 namespace {
 using testing::TempDir;
-
-SurfaceMesh tetrahedron() {
-  SurfaceMesh m;
-  m.vertices.resize(4, 3);
-  m.vertices << 1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1;
-  m.triangles.resize(4, 3);
-  m.triangles << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2;
-  return m;
-}
+using testing::tetrahedron;
 
 TEST(RunIdentity, RunIdsAreLongHexAndDistinct) {
   std::set<std::string> ids;

@@ -28,11 +28,6 @@ class PhaseTimes {
     for (std::size_t i = 0; i < s_.size(); ++i) s_[i] += o.s_[i];
     return *this;
   }
-  double total() const {
-    double t = 0;
-    for (double v : s_) t += v;
-    return t;
-  }
 
  private:
   std::array<double, static_cast<std::size_t>(Phase::Count)> s_{};

@@ -16,6 +16,7 @@
 //      when err = RMS/tolerance ≤ 1, and the next τ follows from err^(−1/3) (local error O(τ³)).
 // With error_control = false every step is accepted at the given τ (stages still from ρ).
 #include <functional>
+#include <utility>
 #include <nlohmann/json_fwd.hpp>
 
 #include "capsflow/core/dynamics/rkc_coefficients.hpp"
@@ -49,7 +50,8 @@ class Rkc {
     long evaluations = 0;  // right-hand-side evaluations of this attempt, ρ estimate included
   };
 
-  explicit Rkc(Options opt) : opt_(opt) {}
+  explicit Rkc(Options opt)
+      : opt_(std::move(opt)), beta_max_(RkcCoefficients::stability_interval(opt_.max_stages, opt_.damping)) {}
 
   // One attempt of size tau from x. Accepted: x ← y_{n+1}. Rejected: x unchanged.
   StepReport step(const Rhs& f, Points& x, double tau);
@@ -77,6 +79,8 @@ class Rkc {
   double rms(const Points& v) const;
 
   Options opt_;
+  double beta_max_;      // β(max_stages): the longest step the stage cap allows is β_max/ρ
+  RkcCoefficients k_;    // of the last step; rebuilt only when the stage count changes
   SpectralRadiusEstimator power_;
   double rho_ = 0, rho_refresh_ = 0, analytic_at_refresh_ = 0;
   long rho_evaluations_ = 0;

@@ -20,7 +20,6 @@ struct RkcCoefficients {
   double beta = 0;  // real stability interval [−beta, 0] of τλ
   // Index j = 0..stages; entries 0 (and 1 for mu, nu, gamma_t) are unused.
   std::vector<double> mu, nu, mu_t, gamma_t;
-  std::vector<double> c;  // stage abscissae c_j (Y_j ≈ y(t_n + c_j τ)), c_s = 1
 
   // RKC's damping 2/13: β(s) stays within 1 % of 0.653 s² and the polynomial damps by ≥ 0.95.
   static constexpr double kDefaultDamping = 2.0 / 13.0;
