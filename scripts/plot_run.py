@@ -28,7 +28,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 def read_csv(path):
     with open(path) as f:
         rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]} if rows else {}
+    # An empty field is a value not defined yet (e.g. steady_measure in the first time unit).
+    return {k: np.array([float(r[k]) if r[k] != "" else np.nan for r in rows]) for k in rows[0]} if rows else {}
 
 
 def nearest_steps(h5, times):

@@ -1,6 +1,7 @@
 // timeseries.csv writer (see timeseries_csv.hpp).
 #include "capsflow/core/io/timeseries_csv.hpp"
 
+#include <cmath>
 #include <fmt/format.h>
 
 #include <cerrno>
@@ -102,7 +103,11 @@ void TimeseriesCsv::append_row(const CsvRow& row) {
                                 ") differ from the header (" + join(columns_) + ")");
   }
   for (std::size_t i = 0; i < row.size(); ++i) {
-    text += fmt::format("{}{}", i ? "," : "", row[i].second);
+    // A value not defined yet (the steady-state measure before one window) is an empty field,
+    // never "nan": readers see a missing value, and "nan" in a file always means a bug.
+    const double v = row[i].second;
+    text += i ? "," : "";
+    if (std::isfinite(v)) text += fmt::format("{}", v);
   }
   text += "\n";
   if (std::fwrite(text.data(), 1, text.size(), file_) != text.size() || std::fflush(file_) != 0) {

@@ -75,20 +75,26 @@ double max_d13_difference(const fs::path& a, const fs::path& b, int* compared) {
 // The paper's case (GSMB GH, α = 3 %, Ca_v = 0.003, a/b = 1.4) at 1280 elements to γ̇t = 2 — the
 // built-in default scene.
 TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
-  const fs::path ref = scratch("heun-quarter"), heun = scratch("heun-auto"), rkc = scratch("rkc");
+  const fs::path ref = scratch("heun-quarter"), heun = scratch("heun-auto"), rkc = scratch("rkc"), fast = scratch("rkc-5e-5");
   ASSERT_EQ(run("--set time.scheme=heun --set time.dt_safety=0.175", ref), 0);  // 1/4 of the auto step
   ASSERT_EQ(run("--set time.scheme=heun", heun), 0);
-  ASSERT_EQ(run("--set time.scheme=rkc", rkc), 0);  // default tolerance
+  ASSERT_EQ(run("", rkc), 0);  // the default: scheme auto → RKC for this GSMB wall, default tolerance
+  ASSERT_EQ(run("--set time.scheme=rkc --set time.tolerance=5e-5", fast), 0);
+  EXPECT_EQ(summary(rkc).at("scheme"), "rkc");
   int n = 0;
-  const double err = max_d13_difference(ref, rkc, &n);
+  // The default tolerance is chosen for 1e-4 on D_ij on every paper case, including walls that fold
+  // at the mesh scale (docs/time-integration.md §5.7); here it gives ≈ 1e-5 (measured 2026-11-30).
+  EXPECT_LT(max_d13_difference(ref, rkc, &n), 1e-4);
   EXPECT_EQ(n, 21);  // every output time, t = 0, 0.1, ..., 2 (steps land on them)
-  // The default tolerance is chosen for 1e-4 on D_ij (docs/time-integration.md §5.7).
-  EXPECT_LT(err, 1e-4);
-  const long e_heun = summary(heun).at("rhs_evaluations"), e_rkc = summary(rkc).at("rhs_evaluations");
-  // Measured 1432 / 322 = 4.45 (2026-11-30); the target is 5 (see docs/time-integration.md §5.7).
-  EXPECT_GE(static_cast<double>(e_heun) / e_rkc, 4.0) << e_heun << " vs " << e_rkc;
+  EXPECT_LT(max_d13_difference(ref, fast, &n), 1e-4);  // 5e-5 is enough on this smooth case (8.8e-5)
+  const long e_heun = summary(heun).at("rhs_evaluations");
+  const long e_rkc = summary(rkc).at("rhs_evaluations"), e_fast = summary(fast).at("rhs_evaluations");
+  // Measured 1432 / 602 = 2.4 at the default tolerance and 1432 / 322 = 4.45 at 5e-5 (2026-11-30);
+  // the target is 5 at this coarsest mesh (docs/time-integration.md §5.7: not met).
+  EXPECT_GE(static_cast<double>(e_heun) / e_rkc, 2.0) << e_heun << " vs " << e_rkc;
+  EXPECT_GE(static_cast<double>(e_heun) / e_fast, 4.0) << e_heun << " vs " << e_fast;
   EXPECT_LT(std::abs(summary(rkc).at("volume_drift").get<double>()), 1e-12);  // projected every step
-  for (const auto& p : {ref, heun, rkc}) fs::remove_all(p), fs::remove(p.string() + ".log");
+  for (const auto& p : {ref, heun, rkc, fast}) fs::remove_all(p), fs::remove(p.string() + ".log");
 }
 
 TEST(TimeSchemes, RkcIsStableOnTheAspectFourSpheroid) {

@@ -9,5 +9,7 @@
 namespace capsflow {
 
 std::unique_ptr<shell::Wall> make_wall(const Scene& scene, const SurfaceMesh& reference);
+// The scene's in-plane law with G_s = 1/Ca_s (the membrane of either wall model).
+shell::MembraneLaw scene_law(const Scene& scene);
 
 }  // namespace capsflow

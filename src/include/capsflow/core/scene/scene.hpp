@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "capsflow/core/bie/backend_choice.hpp"
+#include "capsflow/core/dynamics/health_conditions.hpp"
 #include "capsflow/core/dynamics/time_scheme.hpp"
 #include "capsflow/core/mesh/generation.hpp"
 #include "capsflow/core/scene/options.hpp"
@@ -37,6 +38,7 @@ struct WallSpec {
   double thickness = 0.03;     // h/ℓ = α (GSMB)
   double poisson = 0.5;        // ν_s = ν
   double skalak_c = 1.0;       // Skalak area-dilation parameter C
+  int max_newton = 20;         // GSMB: iteration cap of the rotation Newton solve (shell::GsmbOptions)
 };
 
 struct FlowSpec {
@@ -48,14 +50,16 @@ struct FlowSpec {
 };
 
 struct TimeSpec {
-  TimeScheme scheme = TimeScheme::Heun;
-  double tolerance = 5e-5;       // RKC local error per step (RMS over nodes, units of ℓ; dynamics/rkc.hpp)
+  TimeScheme scheme = TimeScheme::Rkc;  // never Auto after parsing (resolved from the wall model)
+  bool scheme_auto = true;              // the scheme was chosen by "auto" (for the log)
+  double tolerance = 1e-6;       // RKC local error per step (RMS over nodes, units of ℓ; docs/time-integration.md §5.7)
   bool dt_auto = true;           // RKC: error-controlled step; Heun: the stability-limited step
   double dt = 0;                 // fixed step (when !dt_auto)
   double dt_safety = 0.7;        // fraction of the (calibrated) stability limit used by dt = "auto"
   double t_end = 5.0;
   bool stop_at_steady = false;
   double steady_tol = 5e-4;      // area change over γ̇t = 1, relative to 4πℓ² (paper §4.1)
+  std::vector<HealthCondition> stop_on;  // stop the run when one of these conditions begins
 };
 
 struct FluidSpec {
