@@ -75,17 +75,21 @@ int info_command(const InfoOptions& opt) {
   auto wall = [&](double evals) {
     return std::isfinite(seconds_per_eval) ? fmt::format(", ~{:.0f} s", evals * seconds_per_eval) : std::string();
   };
-  fmt::print("time scheme     {}\n", to_string(scene.time.scheme));
+  fmt::print("time scheme     {}{}\n", to_string(scene.time.scheme),
+             !scene.time.scheme_auto ? "" : scene.time.scheme == TimeScheme::Rkc ? " (auto: a wall with bending stiffness)"
+                                                                                 : " (auto: a membrane wall)");
   // Steps are shortened to land on every output time, so output.every < dt forces more steps.
   auto count = [](double steps) {
     return steps < 1e15 ? fmt::format("{:.0f}", steps)
                         : std::isfinite(steps) ? fmt::format("{:.3g}", steps) : std::string("more than 1e308");
   };
   if (scene.time.scheme == TimeScheme::Heun) {
-    const double dt = scene.time.dt_auto ? scene.time.dt_safety * se.limit() : scene.time.dt;
+    // The run's automatic step also respects 2/ρ when the power iteration measured ρ.
+    const double limit = probe ? std::min(se.limit(), 2.0 / rho) : se.limit();
+    const double dt = scene.time.dt_auto ? scene.time.dt_safety * limit : scene.time.dt;
     const double steps = estimated_steps(scene.time.t_end, scene.output.every, dt);
     fmt::print("time step       {:.3e} ({}), about {} steps to t_end = {:g}: {} evaluations{}\n", dt,
-               scene.time.dt_auto ? fmt::format("auto: {:g} × stable dt, recomputed every step", scene.time.dt_safety) : "fixed",
+               scene.time.dt_auto ? fmt::format("auto: {:g} × min(stable dt, 2/ρ), recomputed every step", scene.time.dt_safety) : "fixed",
                count(steps), scene.time.t_end, count(2 * steps), wall(2 * steps));
   } else if (!scene.time.dt_auto) {
     const double dt = scene.time.dt, steps = estimated_steps(scene.time.t_end, scene.output.every, dt);

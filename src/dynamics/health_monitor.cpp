@@ -34,7 +34,12 @@ HealthMonitor::HealthMonitor(const Scene& scene, const SurfaceMesh& reference)
       meter_(reference.triangles, reference.num_nodes()) {
   const SurfaceRoughness r0 = meter_.measure(reference.vertices);
   oscillation_threshold_ = std::max(kOscillationThreshold, kOscillationReferenceFactor * r0.grid_oscillation_p99);
-  worst_min_angle_ = element_quality(reference, reference.vertices).min_angle_deg;
+  const ElementQuality q0 = element_quality(reference, reference.vertices);
+  worst_min_angle_ = q0.min_angle_deg;
+  // A reference mesh that is already worse (an a/b = 6 spheroid has 9.9° facets) is judged
+  // against itself: half its smallest angle, twice its aspect ratio.
+  min_angle_threshold_ = std::min(kMinAngleDeg, 0.5 * q0.min_angle_deg);
+  aspect_threshold_ = std::max(kMaxAspect, 2 * q0.max_aspect_ratio);
 }
 
 std::optional<HealthEvent> HealthMonitor::update(HealthCondition c, bool on, bool off, double t, const std::string& message) {
@@ -95,8 +100,8 @@ std::vector<HealthEvent> HealthMonitor::observe(double t, const Points& x, const
   }
 
   const ElementQuality& q = s.quality;
-  add(update(HealthCondition::ElementQuality, q.min_angle_deg < kMinAngleDeg || q.max_aspect_ratio > kMaxAspect,
-             q.min_angle_deg > 1.5 * kMinAngleDeg && q.max_aspect_ratio < 0.6 * kMaxAspect, t,
+  add(update(HealthCondition::ElementQuality, q.min_angle_deg < min_angle_threshold_ || q.max_aspect_ratio > aspect_threshold_,
+             q.min_angle_deg > 1.5 * min_angle_threshold_ && q.max_aspect_ratio < 0.6 * aspect_threshold_, t,
              fmt::format("facets are degenerating at γ̇t = {:.3g} (smallest angle {:.1f}°, aspect ratio {:.1f}, stretch ratio "
                          "{:.1f}): the mesh cannot follow this deformation accurately (refine the mesh, or the state is "
                          "beyond what the wall model describes)",

@@ -403,7 +403,7 @@ TEST(Cli, CommandLineMessages) {
 TEST(Cli, InfoCountsTheStepsOutputTimesForceAndNotesTheCapillaryNumber) {
   TempDir d;
   // Item 7: `info` said "about 2 steps" (t_end/dt) where outputs every 1e-4 force one step each.
-  const Result r = run("info --set mesh.level=1 --set time.t_end=0.01 --set output.every=0.0001", d.path);
+  const Result r = run("info --set mesh.level=1 --set time.scheme=heun --set time.t_end=0.01 --set output.every=0.0001", d.path);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("about 100 steps to t_end = 0.01"), std::string::npos) << r.out;
   // Item 7: the default scene gives ca_v, so a thicker wall silently meant a smaller Ca_s.

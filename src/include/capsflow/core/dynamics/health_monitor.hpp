@@ -67,7 +67,7 @@ class HealthMonitor {
   bool bending_;  // the wall has bending stiffness (GSMB)
   shell::MembraneLaw law_;
   RoughnessMeter meter_;
-  double oscillation_threshold_;
+  double oscillation_threshold_, min_angle_threshold_, aspect_threshold_;
   HealthSample last_;
   std::array<bool, kHealthConditionNames.size()> active_{};
   std::vector<std::pair<double, double>> stretch_history_;  // (t, largest stretch)
