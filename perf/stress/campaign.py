@@ -101,8 +101,8 @@ def main():
                    rhs_evaluations=s.get("rhs_evaluations"))
         rows.append(row)
         el = time.time() - start
-        print(f"[{i + 1}/{len(todo)}] {name}: {row['outcome']} at t = {row['t']} "
-              f"({'cached' if cached else f'{row[\"wall_seconds\"] or 0:.0f} s'}; elapsed {el:.0f} s)", flush=True)
+        cost = "cached" if cached else f"{row['wall_seconds'] or 0:.0f} s"
+        print(f"[{i + 1}/{len(todo)}] {name}: {row['outcome']} at t = {row['t']} ({cost}; elapsed {el:.0f} s)", flush=True)
     keys = list(rows[0].keys())
     with open(os.path.join(a.out, "results.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys)

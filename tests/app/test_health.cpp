@@ -3,16 +3,11 @@
 // flagged, a failed rotation solve and a too-large fixed step stop cleanly, and the safety factor
 // is limited to what was measured stable.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "capsflow/core/dynamics/stability.hpp"
@@ -21,50 +16,17 @@
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/scene/scene.hpp"
+#include "run_capsflow.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  return fs::temp_directory_path() / ("capsflow-health-" + std::to_string(::getpid()) + "-" + name);
-}
-
-// `capsflow run ARGS -o DIR --overwrite --threads 2`, output in DIR.log; returns the exit code.
-int run(const std::string& args, const fs::path& dir) {
-  const std::string cmd = std::string(CAPSFLOW_EXE) + " run " + args + " -o " + dir.string() + " --overwrite --threads 2 > " +
-                          dir.string() + ".log 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "summary.json")); }
-
-// timeseries.csv as rows of column → value.
-std::vector<std::map<std::string, double>> series(const fs::path& dir) {
-  std::ifstream in(dir / "timeseries.csv");
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream hs(line);
-  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
-  std::vector<std::map<std::string, double>> out;
-  while (std::getline(in, line)) {
-    std::stringstream ls(line);
-    std::map<std::string, double> row;
-    std::string c;
-    for (size_t k = 0; k < names.size() && std::getline(ls, c, ','); ++k) row[names[k]] = std::atof(c.c_str());
-    out.push_back(row);
-  }
-  return out;
-}
+fs::path scratch(const std::string& name) { return capsflow_test::scratch("health", name); }
+using capsflow_test::run;
+using capsflow_test::slurp;
+using capsflow_test::summary;
+auto series(const fs::path& dir) { return capsflow_test::series_rows(dir); }
 
 // Linear interpolation of column `key` at time t.
 double at(const std::vector<std::map<std::string, double>>& s, double t, const std::string& key) {
@@ -75,10 +37,7 @@ double at(const std::vector<std::map<std::string, double>>& s, double t, const s
   return NAN;
 }
 
-void clean(const fs::path& p) {
-  fs::remove_all(p);
-  fs::remove(p.string() + ".log");
-}
+void clean(const fs::path& p) { capsflow_test::remove_run(p); }
 
 }  // namespace
 

@@ -15,45 +15,20 @@
 #include <string>
 
 #include "capsflow/core/io/checkpoint.hpp"
+#include "run_capsflow.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("capsflow-schemes-" + std::to_string(::getpid()) + "-" + name);
-  return p;
-}
-
-// Runs `capsflow run ARGS -o DIR --overwrite --threads 2`; returns the exit code.
-int run(const std::string& args, const fs::path& dir) {
-  const std::string cmd = std::string(CAPSFLOW_EXE) + " run " + args + " -o " + dir.string() + " --overwrite --threads 2 > " +
-                          dir.string() + ".log 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-nlohmann::json summary(const fs::path& dir) {
-  std::ifstream in(dir / "summary.json");
-  return nlohmann::json::parse(in);
-}
+fs::path scratch(const std::string& name) { return capsflow_test::scratch("schemes", name); }
+using capsflow_test::run;
+using capsflow_test::summary;
 
 // timeseries.csv as t → (column → value).
 std::map<double, std::map<std::string, double>> series(const fs::path& dir) {
-  std::ifstream in(dir / "timeseries.csv");
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream hs(line);
-  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
   std::map<double, std::map<std::string, double>> out;
-  while (std::getline(in, line)) {
-    std::stringstream ls(line);
-    std::map<std::string, double> row;
-    std::string c;
-    for (size_t k = 0; k < names.size() && std::getline(ls, c, ','); ++k) row[names[k]] = std::atof(c.c_str());
-    out[std::round(row["t"] * 1e6) / 1e6] = row;
-  }
+  for (auto& row : capsflow_test::series_rows(dir)) out[std::round(row["t"] * 1e6) / 1e6] = row;
   return out;
 }
 

@@ -1,0 +1,66 @@
+#pragma once
+// Helpers of the end-to-end tests that run the capsflow executable (CAPSFLOW_EXE): a scratch
+// folder per test process, `capsflow run` with its output in DIR.log, and readers of summary.json
+// and timeseries.csv.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace capsflow_test {
+
+namespace fs = std::filesystem;
+
+inline fs::path scratch(const std::string& suite, const std::string& name) {
+  return fs::temp_directory_path() / ("capsflow-" + suite + "-" + std::to_string(::getpid()) + "-" + name);
+}
+
+// `capsflow run ARGS -o DIR --overwrite --threads 2`, stdout and stderr in DIR.log; the exit code.
+inline int run(const std::string& args, const fs::path& dir) {
+  const std::string cmd = std::string(CAPSFLOW_EXE) + " run " + args + " -o " + dir.string() + " --overwrite --threads 2 > " +
+                          dir.string() + ".log 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+inline std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "summary.json")); }
+
+// timeseries.csv as rows of column → value (an empty field reads as 0).
+inline std::vector<std::map<std::string, double>> series_rows(const fs::path& dir) {
+  std::ifstream in(dir / "timeseries.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream hs(line);
+  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
+  std::vector<std::map<std::string, double>> out;
+  while (std::getline(in, line)) {
+    std::stringstream ls(line);
+    std::map<std::string, double> row;
+    std::string c;
+    for (size_t k = 0; k < names.size() && std::getline(ls, c, ','); ++k) row[names[k]] = std::atof(c.c_str());
+    out.push_back(row);
+  }
+  return out;
+}
+
+inline void remove_run(const fs::path& p) {
+  fs::remove_all(p);
+  fs::remove(p.string() + ".log");
+}
+
+}  // namespace capsflow_test
