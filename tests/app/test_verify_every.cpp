@@ -132,3 +132,21 @@ TEST(VerifyEvery, ChecksEveryNthEvaluationAndCostsNothingWhenOff) {
   const auto rows = csv_of(d.path / "off");
   EXPECT_EQ(std::find(rows[0].begin(), rows[0].end(), "far_field_check_max"), rows[0].end());
 }
+
+TEST(VerifyEvery, TheWorstAndTheCountsSpanARestart) {
+  TempDir d;
+  const fs::path out = d.path / "r";
+  const std::string low = " --set fluid.verify_every=1 --set fluid.fmm_order=4";
+  const Result a = capsflow(kRun + low + " --set time.t_end=0.01 -o " + out.string(), d.path);
+  ASSERT_EQ(a.code, 0) << a.out;
+  const nlohmann::json s1 = summary_of(out);
+  const Result b = capsflow("run --threads 2 --restart " + out.string() + " --set time.t_end=0.02", d.path);
+  ASSERT_EQ(b.code, 0) << b.out;
+  const nlohmann::json s2 = summary_of(out);
+  // Both segments' checks are counted (rhs_evaluations is the whole run's), and the worst never
+  // drops below the first segment's.
+  EXPECT_EQ(s2["far_field_check"]["checks"].get<long>(), s2["rhs_evaluations"].get<long>());
+  EXPECT_GT(s2["far_field_check"]["checks"].get<long>(), s1["far_field_check"]["checks"].get<long>());
+  EXPECT_EQ(s2["far_field_check"]["above_tolerance"].get<long>(), s2["far_field_check"]["checks"].get<long>());
+  EXPECT_GE(s2["far_field_check"]["worst_max_relative"].get<double>(), s1["far_field_check"]["worst_max_relative"].get<double>());
+}
