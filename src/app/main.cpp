@@ -64,8 +64,12 @@ int main(int argc, char** argv) {
                                                     "Richardson extrapolation and cost (study.md, study.csv, study.json)");
   study_cmd->add_option("scene", study.scene_path, "scene file (TOML); default: the built-in default scene");
   study_cmd->add_option("--levels", study.levels, "consecutive mesh levels, e.g. 3,4,5 (default 3,4,5)");
-  study_cmd->add_option("--vary", study.vary, "one more axis of variants, e.g. --vary fluid.geometry=flat,curved (repeatable)");
-  study_cmd->add_option("--set", study.overrides, "override a scene key in every variant, e.g. --set time.scheme=rkc");
+  // One value per occurrence (repeat the option): CLI11's vector options otherwise also take the
+  // scene file that follows them.
+  study_cmd->add_option("--vary", study.vary, "one more axis of variants, e.g. --vary fluid.geometry=flat,curved (repeatable)")
+      ->allow_extra_args(false);
+  study_cmd->add_option("--set", study.overrides, "override a scene key in every variant, e.g. --set time.scheme=rkc (repeatable)")
+      ->allow_extra_args(false);
   study_cmd->add_option("-o,--output", study.output_dir, "study folder (default: capsflow-study)");
   study_cmd->add_flag("--overwrite", study.overwrite, "run every variant anew and replace the study files");
   study_cmd->add_flag("--verbose", study.verbose, "show each run's own log (status lines, timing table)");

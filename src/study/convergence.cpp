@@ -7,11 +7,10 @@
 
 namespace capsflow::study {
 
-TripleEstimate estimate_triple(double coarse, double medium, double fine) {
+TripleEstimate estimate_triple(double coarse, double medium, double fine, double scale) {
   TripleEstimate t;
   const double e1 = medium - coarse, e2 = fine - medium;
-  const double scale = std::max({std::abs(coarse), std::abs(medium), std::abs(fine)});
-  const double round_off = kRoundOffRelative * scale;
+  const double round_off = kRoundOffRelative * std::max({std::abs(coarse), std::abs(medium), std::abs(fine), scale});
   if (std::abs(e1) <= round_off && std::abs(e2) <= round_off) {
     t.status = ConvergenceStatus::RoundOff;
     t.extrapolated = fine;
@@ -38,7 +37,7 @@ std::string describe(const TripleEstimate& t, std::size_t first, std::size_t n) 
 }
 }  // namespace
 
-ConvergenceEstimate estimate_convergence(const std::vector<double>& values) {
+ConvergenceEstimate estimate_convergence(const std::vector<double>& values, double scale) {
   ConvergenceEstimate c;
   const std::size_t n = values.size();
   c.errors.assign(n, std::nullopt);
@@ -46,11 +45,11 @@ ConvergenceEstimate estimate_convergence(const std::vector<double>& values) {
     c.note = fmt::format("{} level{}: an order needs three", n, n == 1 ? "" : "s");
     return c;
   }
-  const TripleEstimate last = estimate_triple(values[n - 3], values[n - 2], values[n - 1]);
+  const TripleEstimate last = estimate_triple(values[n - 3], values[n - 2], values[n - 1], scale);
   c.status = last.status;
   c.order = last.order;
   c.extrapolated = last.extrapolated;
-  if (n >= 4) c.previous = estimate_triple(values[n - 4], values[n - 3], values[n - 2]);
+  if (n >= 4) c.previous = estimate_triple(values[n - 4], values[n - 3], values[n - 2], scale);
   if (c.extrapolated)
     for (std::size_t i = 0; i < n; ++i) c.errors[i] = values[i] - *c.extrapolated;
   switch (last.status) {

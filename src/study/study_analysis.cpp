@@ -9,6 +9,10 @@ namespace capsflow::study {
 
 namespace {
 
+// Every observable is O(1) or a small difference of O(1) numbers in capsflow's units (D_ij, lengths
+// in ℓ, area in ℓ², volume drift V/V0 − 1): its round-off is relative to 1 at least.
+constexpr double kObservableScale = 1.0;
+
 // Output times of the same scene agree to rounding across levels (they are k·every).
 bool same_time(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(a)); }
 
@@ -67,7 +71,7 @@ StudyAnalysis analyse_study(const StudyPlan& plan, const std::vector<VariantReco
       row.t = results.back()->t_final;
       row.levels = levels;
       for (const VariantResult* r : results) row.values.push_back(r->final_values.at(obs));
-      row.estimate = estimate_convergence(row.values);
+      row.estimate = estimate_convergence(row.values, kObservableScale);
       if (!same_time(t_min, t_max))
         row.note = fmt::format("final times differ between levels ({:g} to {:g}: a steady-state stop)", t_min, t_max);
       a.final_rows.push_back(std::move(row));
@@ -91,7 +95,7 @@ StudyAnalysis analyse_study(const StudyPlan& plan, const std::vector<VariantReco
         row.t = t;
         row.levels = levels;
         for (std::size_t i = 0; i < results.size(); ++i) row.values.push_back(results[i]->series.at(obs)[index[i]]);
-        row.estimate = estimate_convergence(row.values);
+        row.estimate = estimate_convergence(row.values, kObservableScale);
         a.time_rows.push_back(std::move(row));
       }
     }

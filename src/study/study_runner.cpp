@@ -3,12 +3,21 @@
 #include <fmt/core.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 
 #include "capsflow/core/driver/run.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
 #include "capsflow/core/io/output_folder.hpp"
+#include "capsflow/core/io/results_writer.hpp"
 #include "capsflow/core/study/cost_model.hpp"
 #include "capsflow/core/study/study_analysis.hpp"
 #include "capsflow/core/study/study_report.hpp"
@@ -50,12 +59,27 @@ void prepare_study_folder(const fs::path& dir, bool overwrite) {
   }
 }
 
+// Equal, numbers to 1e-12 relative: a scene that went through a checkpoint's canonical TOML
+// has its derived numbers (ca_v = ca_s·thickness) recomputed, possibly one rounding apart.
+bool same_value(const nlohmann::json& a, const nlohmann::json& b) {
+  if (a.is_number() && b.is_number()) {
+    const double x = a.get<double>(), y = b.get<double>();
+    return std::abs(x - y) <= 1e-12 * std::max(std::abs(x), std::abs(y));
+  }
+  if (a.is_array() && b.is_array() && a.size() == b.size()) {
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (!same_value(a[i], b[i])) return false;
+    return true;
+  }
+  return a == b;
+}
+
 // The first key (section.key) whose value differs between two resolved scenes, "" if none.
 std::string first_difference(const nlohmann::json& a, const nlohmann::json& b) {
   for (const auto& [section, keys] : a.items()) {
     if (!b.contains(section)) return section;
     for (const auto& [key, value] : keys.items())
-      if (!b[section].contains(key) || b[section][key] != value)
+      if (!b[section].contains(key) || !same_value(b[section][key], value))
         return fmt::format("{}.{} ({} there, {} here)", section, key, b[section].contains(key) ? b[section][key].dump() : "absent",
                            value.dump());
   }
@@ -81,13 +105,62 @@ std::string result_line(const VariantResult& r) {
                      r.peak_rss_mb);
 }
 
+// While a variant runs (its own status lines hidden), a line every `interval` seconds with the
+// time it has reached, read from the last complete row of its timeseries.csv.
+class Heartbeat {
+ public:
+  Heartbeat(std::string tag, fs::path csv, double t_end, double interval)
+      : tag_(std::move(tag)), csv_(std::move(csv)), t_end_(t_end), interval_(interval), thread_([this] { loop(); }) {}
+  ~Heartbeat() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+
+ private:
+  void loop() {
+    const auto start = std::chrono::steady_clock::now();
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!wake_.wait_for(lock, std::chrono::duration<double>(interval_), [this] { return stop_; })) {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double t = last_time();
+      // The remaining time at this segment's pace (RKC's steps vary: a rough figure).
+      log_->info("{}: t = {:g} of {:g} after {}{}", tag_, t, t_end_, hms(elapsed),
+                   t > 0 ? fmt::format(" (about {} more)", hms(elapsed * (t_end_ - t) / t)) : std::string());
+    }
+  }
+  double last_time() const {
+    std::ifstream in(csv_);
+    std::string line, last;
+    std::getline(in, line);  // header
+    while (std::getline(in, line))
+      if (!in.eof()) last = line;  // a line without its newline may be half written
+    return last.empty() ? 0.0 : std::strtod(last.c_str(), nullptr);  // t is the first column
+  }
+
+  // The runs' info lines are switched off on the default logger (QuietRuns): this one shares its
+  // sinks (same terminal, same format) but not its level.
+  std::shared_ptr<spdlog::logger> log_ =
+      std::make_shared<spdlog::logger>("", spdlog::default_logger()->sinks().begin(), spdlog::default_logger()->sinks().end());
+  std::string tag_;
+  fs::path csv_;
+  double t_end_, interval_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread thread_;  // last: started once the members above exist
+};
+
 // Keeps the runs' own info lines out of the study's output unless --verbose.
 class QuietRuns {
  public:
-  explicit QuietRuns(bool verbose) : saved_(spdlog::get_level()) {
-    if (!verbose) spdlog::set_level(spdlog::level::warn);
+  explicit QuietRuns(bool verbose) : saved_(spdlog::default_logger()->level()) {
+    if (!verbose) spdlog::default_logger()->set_level(spdlog::level::warn);
   }
-  ~QuietRuns() { spdlog::set_level(saved_); }
+  ~QuietRuns() { spdlog::default_logger()->set_level(saved_); }
 
  private:
   spdlog::level::level_enum saved_;
@@ -192,6 +265,9 @@ int run_study(const StudyOptions& o) {
     int code = 0;
     try {
       QuietRuns quiet(o.verbose);
+      std::unique_ptr<Heartbeat> heartbeat;
+      if (!o.verbose)
+        heartbeat = std::make_unique<Heartbeat>(tag, folder(i) / io::kTimeseriesCsv, v.scene.time.t_end, o.heartbeat_seconds);
       code = run_simulation(ro);
     } catch (const std::exception& e) {
       records[i].state = "error";

@@ -225,3 +225,15 @@ TEST(Study, AVariantFolderOfAnotherSceneIsRefusedUnlessOverwrite) {
   EXPECT_EQ(again.code, 0) << again.out;
   EXPECT_DOUBLE_EQ(json_of(out / "L1" / "summary.json")["t"].get<double>(), 0.03);
 }
+
+TEST(Study, TheSceneMayFollowVaryAndSet) {
+  // --vary and --set take one value per occurrence: the scene file after them is the scene.
+  TempDir d;
+  const fs::path scene = fs::path(CAPSFLOW_SOURCE_DIR) / "scenes" / "quick.toml";
+  const Result r = capsflow("study --levels 1 --threads 2 -o " + (d.path / "s").string() +
+                                " --set wall.model=membrane --set time.t_end=0.02 --vary fluid.geometry=flat " + scene.string(),
+                            d.path);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(d.path / "s" / "geometry=flat_L1" / "summary.json"));
+  EXPECT_EQ(json_of(d.path / "s" / "study.json")["study"]["scene"], scene.string());
+}

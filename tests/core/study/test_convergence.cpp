@@ -96,6 +96,13 @@ TEST(Convergence, RoundOffAndTooFewLevelsAreSaidSo) {
   EXPECT_EQ(*r.extrapolated, 0.0);
   const ConvergenceEstimate s = estimate_convergence({0.5, 0.5 + 1e-15, 0.5});
   EXPECT_EQ(s.status, ConvergenceStatus::RoundOff);
+  // Volume drift V/V0 − 1 at round-off on every level (measured 4e-16, 3e-15, 1e-15 on the Fig. 4
+  // case): relative to the values themselves these are "differences", relative to the O(1)
+  // volumes they come from they are round-off — which the scale says.
+  EXPECT_EQ(estimate_convergence({4.4e-16, 3.1e-15, 1.3e-15}).status, ConvergenceStatus::NonMonotone);
+  EXPECT_EQ(estimate_convergence({4.4e-16, 3.1e-15, 1.3e-15}, 1.0).status, ConvergenceStatus::RoundOff);
+  // ... while a real trend far above round-off keeps its order with that scale.
+  EXPECT_EQ(estimate_convergence({-4e-6, -1e-6, -2.5e-7}, 1.0).status, ConvergenceStatus::Asymptotic);
   const ConvergenceEstimate t = estimate_convergence({0.5, 0.6});
   EXPECT_EQ(t.status, ConvergenceStatus::TooFewLevels);
   EXPECT_FALSE(t.order);

@@ -36,8 +36,10 @@ constexpr const auto& name_table(ConvergenceStatus) { return kConvergenceStatusN
 // converges (or diverges, p < 0); above 6 the two differences are far more unequal than any
 // discretisation in capsflow (O(h) to O(h³)) explains — typically a difference passing near zero.
 inline constexpr double kMinSaneOrder = 0.5, kMaxSaneOrder = 6.0;
-// Differences below this fraction of the largest |value| are round-off (diagnostics are sums over
-// the mesh: ~1e-14 relative; 1e-12 leaves a margin and is far below any discretisation error).
+// Differences below this fraction of the scale are round-off (diagnostics are sums over the
+// mesh: ~1e-14 relative; 1e-12 leaves a margin and is far below any discretisation error). The
+// scale is the largest |value|, or `scale` when that is larger: a quantity that is itself a
+// small difference of O(1) numbers (volume drift V/V0 − 1 ≈ 1e-15) rounds like its O(1) parts.
 inline constexpr double kRoundOffRelative = 1e-12;
 
 // One triple (coarse, medium, fine).
@@ -46,7 +48,7 @@ struct TripleEstimate {
   std::optional<double> order;         // Asymptotic only
   std::optional<double> extrapolated;  // Asymptotic (Richardson) or RoundOff (the fine value)
 };
-TripleEstimate estimate_triple(double coarse, double medium, double fine);
+TripleEstimate estimate_triple(double coarse, double medium, double fine, double scale = 0);
 
 struct ConvergenceEstimate {
   ConvergenceStatus status = ConvergenceStatus::TooFewLevels;  // of the three finest levels
@@ -59,7 +61,7 @@ struct ConvergenceEstimate {
   std::string note;  // why an order, an extrapolation or an uncertainty is missing ("" if none is)
 };
 
-// `values` per level, coarse to fine, on consecutive levels.
-ConvergenceEstimate estimate_convergence(const std::vector<double>& values);
+// `values` per level, coarse to fine, on consecutive levels; `scale` as for kRoundOffRelative.
+ConvergenceEstimate estimate_convergence(const std::vector<double>& values, double scale = 0);
 
 }  // namespace capsflow::study

@@ -28,6 +28,7 @@ struct StudyOptions {
   bool overwrite = false;
   int threads = 0;
   bool verbose = false;  // show each run's own log lines (status lines, timing table)
+  double heartbeat_seconds = 60;  // otherwise: a line with the running variant's t this often
   std::string command_line;
 };
 
