@@ -94,6 +94,14 @@ def main():
                 axes[2].loglog(*zip(*pts), "o-", color=c, label=fam)
                 for (x, y), l in zip(pts, levels):
                     axes[2].annotate(f"L{l}", (x, y), fontsize=6, xytext=(2, 2), textcoords="offset points")
+        # Panels without an asymptotic family say why, instead of staying blank.
+        skipped = [f"{r['family']}: {r['status']}" for r in rows if r["observable"] == obs and r["status"] != "asymptotic"]
+        for ax in axes[1:]:
+            if skipped and not ax.get_legend_handles_labels()[0]:
+                ax.text(0.5, 0.5, "no order:\n" + "\n".join(skipped), ha="center", va="center", fontsize=7,
+                        transform=ax.transAxes)
+                ax.set_xticks([])
+                ax.set_yticks([])
         axes[0].set_xscale("log")
         titles = [obs, f"|{obs} − {obs}*|", f"|{obs} − {obs}*|"]
         xlabels = ["h (relative: $2^{-level}$)", "h (relative: $2^{-level}$)", "wall time per variant [s]"]
