@@ -28,11 +28,13 @@ void FarFieldWatch::append_columns(io::CsvRow& row) const {
 }
 
 nlohmann::json FarFieldWatch::state(const SingleLayer& bie) const {
-  const double worst = seen_ > 0 ? bie.worst_far_field_check().max_relative : 0.0;
+  // From the operator itself: a check made after the last update() (a step that then failed) counts too.
+  const long checks = bie.far_field_checks();
+  const double worst = checks > 0 ? bie.worst_far_field_check().max_relative : 0.0;
   const bool earlier = worst_max_before_ >= worst;
-  return {{"checks", checks_before_ + seen_},
+  return {{"checks", checks_before_ + checks},
           {"worst_max_relative", std::max(worst_max_before_, worst)},
-          {"worst_rms_relative", std::max(worst_rms_before_, seen_ > 0 ? bie.worst_far_field_rms() : 0.0)},
+          {"worst_rms_relative", std::max(worst_rms_before_, checks > 0 ? bie.worst_far_field_rms() : 0.0)},
           {"t_worst", earlier ? t_worst_before_ : t_worst_},
           {"above_tolerance", above_before_ + bie.far_field_checks_above_tolerance()}};
 }

@@ -123,13 +123,14 @@ class Heartbeat {
  private:
   void loop() {
     const auto start = std::chrono::steady_clock::now();
+    const double t_start = last_time();  // > 0 when the variant continues from a checkpoint
     std::unique_lock<std::mutex> lock(mutex_);
     while (!wake_.wait_for(lock, std::chrono::duration<double>(interval_), [this] { return stop_; })) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const double t = last_time();
       // The remaining time at this segment's pace (RKC's steps vary: a rough figure).
       log_->info("{}: t = {:g} of {:g} after {}{}", tag_, t, t_end_, hms(elapsed),
-                   t > 0 ? fmt::format(" (about {} more)", hms(elapsed * (t_end_ - t) / t)) : std::string());
+                   t > t_start ? fmt::format(" (about {} more)", hms(elapsed * (t_end_ - t) / (t - t_start))) : std::string());
     }
   }
   double last_time() const {
@@ -249,7 +250,6 @@ int run_study(const StudyOptions& o) {
     RunOptions ro;
     ro.threads = o.threads;
     ro.command_line = o.command_line + "  # variant " + v.name;
-    ro.progress_interval = 30;
     if (resume[i]) {
       ro.restart = folder(i).string();  // its checkpoint.h5 (or the previous one); continues in place
       ro.output_dir.clear();
