@@ -27,4 +27,17 @@ struct RunCommandOptions {
 };
 int run_command(const RunCommandOptions& opt);
 
+struct StudyCommandOptions {
+  std::string scene_path;  // empty: built-in default scene
+  std::vector<std::string> overrides;
+  std::string levels = "3,4,5";
+  std::vector<std::string> vary;  // "section.key=v1,v2,..."
+  std::string output_dir = "capsflow-study";
+  bool overwrite = false;
+  bool verbose = false;
+  int threads = 0;
+  std::string command_line;
+};
+int study_command(const StudyCommandOptions& opt);
+
 }  // namespace capsflow::app

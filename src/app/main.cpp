@@ -1,6 +1,7 @@
 // capsflow command line (docs/scene-and-output.md §1): thin — parse, build, run.
 //   capsflow run [SCENE.toml] [--set key=value]... [-o DIR] [--overwrite] [--restart CKPT] [--threads N]
 //   capsflow info [SCENE.toml] [--set key=value]...
+//   capsflow study [SCENE.toml] [-o DIR] [--levels 3,4,5] [--vary key=v1,v2]... [--set key=value]... [--overwrite] [--threads N]
 //   capsflow --version
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -58,6 +59,22 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--restart", run.restart, "continue from a checkpoint (DIR/checkpoint.h5, or DIR)");
   run_cmd->add_option("--threads", run.threads, "OpenMP threads (default 0: all cores)")->check(CLI::Range(0, kMaxThreads));
 
+  capsflow::app::StudyCommandOptions study;
+  CLI::App* study_cmd = cli.add_subcommand("study", "mesh-convergence study: one run per level and vary value, then orders, "
+                                                    "Richardson extrapolation and cost (study.md, study.csv, study.json)");
+  study_cmd->add_option("scene", study.scene_path, "scene file (TOML); default: the built-in default scene");
+  study_cmd->add_option("--levels", study.levels, "consecutive mesh levels, e.g. 3,4,5 (default 3,4,5)");
+  // One value per occurrence (repeat the option): CLI11's vector options otherwise also take the
+  // scene file that follows them.
+  study_cmd->add_option("--vary", study.vary, "one more axis of variants, e.g. --vary fluid.geometry=flat,curved (repeatable)")
+      ->allow_extra_args(false);
+  study_cmd->add_option("--set", study.overrides, "override a scene key in every variant, e.g. --set time.scheme=rkc (repeatable)")
+      ->allow_extra_args(false);
+  study_cmd->add_option("-o,--output", study.output_dir, "study folder (default: capsflow-study)");
+  study_cmd->add_flag("--overwrite", study.overwrite, "run every variant anew and replace the study files");
+  study_cmd->add_flag("--verbose", study.verbose, "show each run's own log (status lines, timing table)");
+  study_cmd->add_option("--threads", study.threads, "OpenMP threads (default 0: all cores)")->check(CLI::Range(0, kMaxThreads));
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -75,6 +92,10 @@ int main(int argc, char** argv) {
       run.output_dir_given = out_opt->count() > 0;
       for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
       return capsflow::app::run_command(run);
+    }
+    if (*study_cmd) {
+      for (int i = 0; i < argc; ++i) study.command_line += (i ? " " : "") + std::string(argv[i]);
+      return capsflow::app::study_command(study);
     }
     fmt::print("{}", cli.help());
     return 0;

@@ -69,6 +69,9 @@ RestartPlan plan_restart(const io::CheckpointState& ck, const fs::path& checkpoi
     return plan;
   }
   if (!fs::is_directory(st)) refuse("output path " + q + " exists and is not a folder");
+  if ((stored.fluid.verify_every > 0) != (plan.scene.fluid.verify_every > 0))
+    refuse("--set fluid.verify_every: switching the direct far-field check on or off changes the columns of " + q +
+           "/timeseries.csv; continue into a new or empty folder with -o NEW");
   io::FolderIdentity id;
   try {
     id = io::read_folder_identity(plan.folder);

@@ -3,12 +3,15 @@
 #include <omp.h>
 #include <spdlog/spdlog.h>
 
+#include <sys/resource.h>
+
 #include <atomic>
 #include <csignal>
 #include <limits>
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include "capsflow/core/driver/far_field_watch.hpp"
 #include "capsflow/core/driver/restart_rules.hpp"
 #include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
@@ -50,6 +53,12 @@ std::string hms(double s) {
   if (!std::isfinite(s) || s > 1e9) return "?";
   const long t = static_cast<long>(s + 0.5);
   return t >= 3600 ? fmt::format("{}h{:02}m", t / 3600, (t / 60) % 60) : fmt::format("{}m{:02}s", t / 60, t % 60);
+}
+
+// The process's peak resident memory so far (getrusage maxrss, kB on Linux), in MB.
+double peak_rss_mb() {
+  rusage u{};
+  return getrusage(RUSAGE_SELF, &u) == 0 ? static_cast<double>(u.ru_maxrss) / 1024.0 : 0.0;
 }
 
 // Everything that evolves, and what a checkpoint must carry to continue bit for bit.
@@ -150,6 +159,7 @@ class Simulation {
   Eigen::VectorXd wall_prev_;
   int threads_ = 1;
   std::string run_id_, mesh_hash_;
+  std::unique_ptr<FarFieldWatch> far_check_;  // fluid.verify_every
   RestartPlan restart_;  // restart_.new_folder: a new run folder started from the checkpoint
   std::filesystem::path checkpoint_path_;  // the checkpoint actually read (after a fallback: the previous one)
 };
@@ -187,6 +197,7 @@ void Simulation::setup() {
   steady_ = std::make_unique<SteadyStateDetector>(scene_.time.steady_tol);
   dyn_ = std::make_unique<CapsuleDynamics>(scene_, ref_, threads_);
   health_ = std::make_unique<HealthMonitor>(scene_, ref_);
+  far_check_ = std::make_unique<FarFieldWatch>(scene_.fluid.verify_every, scene_.fluid.tolerance);
   rhs_ = [this](const Points& x, Points& v) { dyn_->velocity(x, v); };
   if (scene_.time.scheme == TimeScheme::Rkc) {
     Rkc::Options ro;
@@ -212,6 +223,7 @@ void Simulation::setup() {
     steady_->set_history(ck.history);
     const auto e = nlohmann::json::parse(ck.extra);
     st_.set_extra(e);
+    if (e.contains("far_field_check")) far_check_->set_state(e.at("far_field_check"));
     // A changed output.every or checkpoint_every counts its index from the checkpoint time.
     const Scene stored = parse_scene(ck.scene_toml, "checkpoint");
     st_.next_output = restart_index(e.at("next_output").get<std::int64_t>(), stored.output.every, scene_.output.every, st_.t);
@@ -339,6 +351,7 @@ void Simulation::write_output() {
     rhs_at_state_ = true;
     if (rkc_) rkc_->forget_velocity();  // the warm start moved: recompute F(y_n) (restart-safe)
   }
+  far_check_->update(dyn_->single_layer(), st_.t);
   const shell::WallEnergies en = dyn_->wall().energies(st_.x);
   io::NamedFields fields;
   if (scene_.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out_);
@@ -377,13 +390,14 @@ void Simulation::write_output() {
     }
     f.close();
   }
-  std::vector<std::pair<std::string, double>> row{{"t", st_.t}, {"step", static_cast<double>(st_.step)}, {"dt", st_.dt},
+  io::CsvRow row = {{"t", st_.t}, {"step", static_cast<double>(st_.step)}, {"dt", st_.dt},
                     {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
                     {"Le1", s.Le[0]}, {"Le2", s.Le[1]}, {"Le3", s.Le[2]}, {"L1", s.L[0]}, {"L2", s.L[1]}, {"L3", s.L[2]},
                     {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st_.volume0 - 1},
                     {"E_membrane", en.membrane}, {"E_bending", en.bending}, {"E_shear", en.shear},
                     {"steady_measure", steady_->measure()}, {"wall_seconds", wall_seconds()}};
   for (const auto& [name, value] : health_->columns()) row.emplace_back(name, value);
+  far_check_->append_columns(row);  // fluid.verify_every > 0 only
   out_->append_row(row);
   last_output_t_ = st_.t;
 }
@@ -410,6 +424,7 @@ void Simulation::write_checkpoint() {
     extra["heun_rho"] = {{"rho", heun_rho_}, {"step", heun_rho_step_}};
     if (heun_power_.direction().rows() == st_.x.rows()) ck.integrator_state = heun_power_.direction();
   }
+  if (far_check_->enabled()) extra["far_field_check"] = far_check_->state(dyn_->single_layer());
   if (rkc_) {
     extra["rkc"] = rkc_->scalar_state();
     ck.integrator_state = rkc_->matrix_state();
@@ -487,6 +502,8 @@ void Simulation::finish(const std::string& stop_reason) {
     summary["spectral_radius_evaluations"] = rkc_->rho_evaluations();
   }
   summary["health"] = health_->summary();
+  if (far_check_->enabled()) summary["far_field_check"] = far_check_->summary(dyn_->single_layer());
+  summary["peak_rss_mb"] = peak_rss_mb();
   summary["run_id"] = run_id_;
   summary["mesh_hash"] = mesh_hash_;
   out_->write_summary(summary);
@@ -554,6 +571,7 @@ int Simulation::run() {
     StepOutcome o;
     try {
       o = advance();
+      far_check_->update(dyn_->single_layer(), st_.t);
     } catch (const SolverFailure& e) {
       stop = fmt::format("solver_failure: {} at t = {:g}", e.what(), st_.t);
       spdlog::error("{}; keeping the last healthy state", stop);

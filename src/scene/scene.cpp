@@ -27,7 +27,7 @@ const std::map<std::string, std::set<std::string>>& schema() {
       {"wall", {"model", "law", "thickness", "poisson", "skalak_c", "max_newton"}},
       {"flow", {"type", "ca_v", "ca_s", "gradient"}},
       {"time", {"scheme", "tolerance", "dt", "dt_safety", "t_end", "stop_at_steady", "steady_tol", "stop_on"}},
-      {"fluid", {"backend", "tolerance", "geometry", "volume_correction"}},
+      {"fluid", {"backend", "tolerance", "geometry", "volume_correction", "fmm_order", "verify_every"}},
       {"output", {"every", "fields", "checkpoint_every"}},
   };
   return s;
@@ -366,6 +366,13 @@ Scene parse_scene(const std::string& toml_text, const std::string& name, const s
   // fmm/calibration.hpp), and its direct far field is accurate to ~1e-9 (single_layer.cpp).
   r.require(sc.fluid.tolerance >= 1e-8 && sc.fluid.tolerance <= 1e-1, "fluid", "tolerance",
             "must be in [1e-8, 1e-1] (the far-field sums are accurate to ~1e-9)");
+  r.get("fluid", "fmm_order", sc.fluid.fmm_order);
+  // The calibrated orders (fmm/calibration.hpp); 0 keeps the order the tolerance calls for.
+  r.require(sc.fluid.fmm_order == 0 || (sc.fluid.fmm_order >= 4 && sc.fluid.fmm_order <= 14), "fluid", "fmm_order",
+            "must be 0 (from fluid.tolerance) or an FMM order in [4, 14]");
+  r.get("fluid", "verify_every", sc.fluid.verify_every);
+  r.require(sc.fluid.verify_every >= 0, "fluid", "verify_every",
+            "must be a non-negative integer: right-hand-side evaluations between direct checks (0 = off)");
 
   auto& o = sc.output;
   r.get("output", "every", o.every);
@@ -450,7 +457,8 @@ nlohmann::json to_json(const Scene& s) {
                {"dt", s.time.dt_auto ? nlohmann::json("auto") : nlohmann::json(s.time.dt)},
                {"dt_safety", s.time.dt_safety}, {"t_end", s.time.t_end},
                {"stop_at_steady", s.time.stop_at_steady}, {"steady_tol", s.time.steady_tol}, {"stop_on", stop_on}};
-  j["fluid"] = {{"backend", to_string(s.fluid.backend)}, {"tolerance", s.fluid.tolerance}, {"geometry", to_string(s.fluid.geometry)}, {"volume_correction", s.fluid.volume_correction}};
+  j["fluid"] = {{"backend", to_string(s.fluid.backend)}, {"tolerance", s.fluid.tolerance}, {"geometry", to_string(s.fluid.geometry)}, {"volume_correction", s.fluid.volume_correction},
+                {"fmm_order", s.fluid.fmm_order}, {"verify_every", s.fluid.verify_every}};
   j["output"] = {{"every", s.output.every}, {"fields", fields}, {"checkpoint_every", s.output.checkpoint_every}};
   return j;
 }
@@ -478,8 +486,9 @@ std::string to_toml(const Scene& s) {
   std::string stop_on;
   for (HealthCondition c : s.time.stop_on) stop_on += (stop_on.empty() ? "" : ", ") + q(to_string(c));
   out += fmt::format("stop_on = [{}]\n", stop_on);
-  out += fmt::format("\n[fluid]\nbackend = {}\ntolerance = {}\ngeometry = {}\nvolume_correction = {}\n", q(to_string(s.fluid.backend)),
-                     s.fluid.tolerance, q(to_string(s.fluid.geometry)), s.fluid.volume_correction);
+  out += fmt::format("\n[fluid]\nbackend = {}\ntolerance = {}\ngeometry = {}\nvolume_correction = {}\nfmm_order = {}\nverify_every = {}\n",
+                     q(to_string(s.fluid.backend)), s.fluid.tolerance, q(to_string(s.fluid.geometry)), s.fluid.volume_correction,
+                     s.fluid.fmm_order, s.fluid.verify_every);
   std::string fields;
   for (OutputField f : s.output.fields) fields += (fields.empty() ? "" : ", ") + q(to_string(f));
   out += fmt::format("\n[output]\nevery = {}\nfields = [{}]\ncheckpoint_every = {}\n", s.output.every, fields,

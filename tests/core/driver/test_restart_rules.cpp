@@ -151,3 +151,18 @@ TEST(RestartRules, AChangedIntervalRestartsItsIndexFromTheCheckpointTime) {
   EXPECT_EQ(restart_index(6, 0.1, 0.1, 0.5), 6);    // unchanged: kept for a bit-for-bit continuation
   EXPECT_EQ(restart_index(2, 0.5, 0.05, 0.5), 11);  // 0.55
 }
+
+TEST(RestartRules, SwitchingTheFarFieldCheckIsRefusedInPlaceButNotInANewFolder) {
+  // fluid.verify_every adds two timeseries.csv columns: switching it in the run's own folder would
+  // make the next row's columns differ from the header mid-run.
+  TempDir d;
+  make_run_folder(d.path / "A", "run-a");
+  const std::string e =
+      refusal([&] { plan_restart(checkpoint("run-a"), d.path / "A" / "checkpoint.h5", {"time.t_end=1", "fluid.verify_every=5"}, ""); });
+  EXPECT_NE(e.find("--set fluid.verify_every"), std::string::npos) << e;
+  EXPECT_NE(e.find("-o NEW"), std::string::npos) << e;
+  const RestartPlan p = plan_restart(checkpoint("run-a"), d.path / "A" / "checkpoint.h5", {"time.t_end=1", "fluid.verify_every=5"},
+                                     (d.path / "new").string());
+  EXPECT_TRUE(p.new_folder);
+  EXPECT_EQ(p.scene.fluid.verify_every, 5);
+}

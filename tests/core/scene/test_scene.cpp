@@ -104,6 +104,22 @@ TEST(SceneErrors, OutOfRange) {
   EXPECT_NE(error_of("[output]\nfields = [\"stress\"]\n").find("output.fields"), std::string::npos);
 }
 
+// fluid.verify_every and fluid.fmm_order: non-negative integers, one line naming the key.
+TEST(SceneErrors, VerifyEveryAndFmmOrderAreCheckedAndNamed) {
+  const Scene s = parse_scene(default_scene_toml(), "d", {"fluid.verify_every=25", "fluid.fmm_order=6"});
+  EXPECT_EQ(s.fluid.verify_every, 25);
+  EXPECT_EQ(s.fluid.fmm_order, 6);
+  EXPECT_EQ(parse_scene(default_scene_toml(), "d").fluid.verify_every, 0);  // off by default
+  EXPECT_EQ(parse_scene(to_toml(s), "resolved").fluid.verify_every, 25);    // kept in checkpoints' scene
+  const std::string neg = error_of("[fluid]\nverify_every = -1\n");
+  EXPECT_NE(neg.find("s.toml:2: fluid.verify_every: must be a non-negative integer"), std::string::npos) << neg;
+  EXPECT_EQ(neg.find('\n'), std::string::npos) << neg;  // one line
+  EXPECT_NE(error_of("[fluid]\nverify_every = 2.5\n").find("fluid.verify_every: expected an integer"), std::string::npos);
+  EXPECT_NE(error_of(default_scene_toml(), {"fluid.verify_every=often"}).find("--set fluid.verify_every: expected an integer"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nfmm_order = 3\n").find("fluid.fmm_order: must be 0"), std::string::npos);
+}
+
 TEST(SceneErrors, InconsistentKeys) {
   EXPECT_NE(error_of("[flow]\nca_s = 0.1\nca_v = 0.003\n").find("either flow.ca_s or flow.ca_v"), std::string::npos);
   EXPECT_NE(error_of("[flow]\ntype = \"linear\"\n").find("flow.gradient: required"), std::string::npos);

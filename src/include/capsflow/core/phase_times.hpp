@@ -14,11 +14,12 @@ enum class Phase : std::size_t {
   BieSources,  // Gauss points and strengths of the far field
   BieFar,      // far field: FMM (setup + evaluation) or direct summation
   BieNear,     // exact local integrals replacing the far field near each node
+  BieVerify,   // direct re-summation of the far field to check it (fluid.verify_every)
   Other,       // flow, updates, volume correction
   Count
 };
 inline constexpr std::array<const char*, static_cast<std::size_t>(Phase::Count)> kPhaseNames = {
-    "wall_rotations_and_forces", "load_mass_solve", "bie_sources", "bie_far", "bie_near", "other"};
+    "wall_rotations_and_forces", "load_mass_solve", "bie_sources", "bie_far", "bie_near", "bie_verify", "other"};
 
 class PhaseTimes {
  public:

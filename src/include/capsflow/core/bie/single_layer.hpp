@@ -47,6 +47,17 @@ struct SingleLayerOptions {
                                  // flat (the O(h²) geometry error dominates), 2 for curved (the far
                                  // field's O(h) 3-point quadrature error would otherwise dominate)
   int threads = 0;               // 0 = OpenMP default
+  int fmm_order = 0;             // > 0 forces the FMM order instead of the one the tolerance calls for
+  // > 0: on every verify_every-th apply() (the first one included) the far field is summed again
+  // directly, in full double precision, on the same sources and targets (far_field_check()).
+  int verify_every = 0;
+};
+
+// The far field of one apply() against its direct re-summation: the largest and the RMS node
+// difference, both relative to the largest directly summed far-field velocity.
+struct FarFieldCheck {
+  long evaluation = 0;  // which apply() (0-based, counted by this operator)
+  double max_relative = 0, rms_relative = 0;
 };
 
 
@@ -66,6 +77,13 @@ class SingleLayer {
   // Seconds in the phases BieSources, BieFar and BieNear, summed over apply() calls.
   const PhaseTimes& times() const { return times_; }
   long evaluations() const { return evaluations_; }
+  // Direct checks made so far (SingleLayerOptions::verify_every): how many, the latest, the one
+  // with the largest max difference, the largest RMS, and how many exceeded the tolerance.
+  long far_field_checks() const { return checks_; }
+  const FarFieldCheck& last_far_field_check() const { return last_check_; }
+  const FarFieldCheck& worst_far_field_check() const { return worst_check_; }
+  double worst_far_field_rms() const { return worst_rms_; }
+  long far_field_checks_above_tolerance() const { return checks_above_; }
 
  private:
   void build_surface(const Points& x);  // vertex normals and edge midpoints of the current surface
@@ -73,6 +91,7 @@ class SingleLayer {
   void build_sources(const Points& x, const Points& q);
   void far_field(const double* targets, Eigen::Index n_targets, double* out, bool targets_are_nodes);
   void correct_touching_elements(const Points& x, const Points& q, Points& u);
+  void check_far_field(const Points& x, const Points& far);  // far: the far field just summed
 
   Triangles tri_;
   Eigen::Index n_nodes_;
@@ -92,6 +111,10 @@ class SingleLayer {
   std::unique_ptr<fmm::Fmm<fmm::Stokeslet>> fmm_;
   PhaseTimes times_;
   long evaluations_ = 0;
+  long checks_ = 0, checks_above_ = 0;
+  FarFieldCheck last_check_, worst_check_;
+  double worst_rms_ = 0;
+  std::vector<double> direct_scratch_;  // the direct re-summation (allocated on the first check)
 
   // Off-surface evaluation reuses the sources and far field of the current surface.
   friend void evaluate_off_surface(SingleLayer&, const Points&, const Points&, const Points&, Points&, OffSurfaceReport*);

@@ -15,7 +15,8 @@
 //
 // Which --set keys apply: everything except the mesh (mesh.*: it comes from the checkpoint) and
 // wall.model (the checkpoint holds that wall's state), which are refused when they differ from the
-// checkpoint's scene; time.t_end must lie after the checkpoint time. A changed output.every or
+// checkpoint's scene; time.t_end must lie after the checkpoint time. Switching fluid.verify_every
+// on or off is refused in the run's own folder (it adds or removes timeseries.csv columns). A changed output.every or
 // output.checkpoint_every restarts its index from the checkpoint time (restart_index).
 #include <cstdint>
 #include <filesystem>

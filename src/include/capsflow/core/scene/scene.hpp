@@ -67,6 +67,8 @@ struct FluidSpec {
   double tolerance = 1e-6;       // far-field relative accuracy (FMM order; direct: single-precision pairs from 1e-5)
   SurfaceGeometry geometry = SurfaceGeometry::Flat;  // surface seen by the boundary integral (bie/single_layer.hpp)
   bool volume_correction = true; // remove the mean normal velocity (discrete flux error) each stage
+  int fmm_order = 0;             // > 0 forces the FMM order (4..14) instead of the tolerance's
+  int verify_every = 0;          // > 0: every N evaluations also sum the far field directly and compare
 };
 
 struct OutputSpec {

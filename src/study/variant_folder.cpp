@@ -1,0 +1,114 @@
+#include "capsflow/core/study/variant_folder.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/manifest.hpp"
+#include "capsflow/core/io/results_writer.hpp"
+
+namespace capsflow::study {
+namespace fs = std::filesystem;
+
+namespace {
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  if (!in) throw std::runtime_error("cannot read '" + p.string() + "'");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error("'" + p.string() + "' is not valid JSON: " + e.what());
+  }
+}
+
+bool is_finished(const std::string& reason) { return reason == "t_end" || reason == "steady"; }
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) out.push_back(cell);
+  return out;
+}
+
+}  // namespace
+
+FolderInspection inspect_variant_folder(const fs::path& dir) {
+  FolderInspection r;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec) || fs::is_empty(dir, ec)) return r;
+  if (fs::exists(dir / io::kSummaryJson, ec)) {
+    r.stop_reason = read_json(dir / io::kSummaryJson).value("stop_reason", std::string());
+    r.state = is_finished(r.stop_reason) ? FolderState::Finished
+              : r.stop_reason == "interrupted" ? FolderState::Interrupted
+                                               : FolderState::Failed;
+    return r;
+  }
+  const fs::path ck = dir / io::kCheckpointFile;
+  if (fs::exists(ck, ec) || fs::exists(io::previous_checkpoint_path(ck), ec)) {
+    r.state = FolderState::Interrupted;
+    return r;
+  }
+  bool has_run_files = false;
+  for (const auto& e : fs::directory_iterator(dir, ec)) has_run_files = has_run_files || io::is_capsflow_output_name(e.path().filename().string());
+  r.state = has_run_files ? FolderState::Unfinished : FolderState::Empty;
+  return r;
+}
+
+const std::vector<std::string>& observable_names() {
+  static const std::vector<std::string> names = {"D12", "D13", "D23", "L1", "L2", "L3", "Le1", "Le2", "Le3", "area", "volume_drift"};
+  return names;
+}
+
+VariantResult read_variant_result(const fs::path& dir) {
+  VariantResult r;
+  const fs::path sp = dir / io::kSummaryJson;
+  r.summary = read_json(sp);
+  const nlohmann::json& s = r.summary;
+  try {
+    r.stop_reason = s.at("stop_reason").get<std::string>();
+    r.t_final = s.at("t").get<double>();
+    r.elements = s.at("elements").get<long>();
+    r.nodes = s.at("nodes").get<long>();
+    r.wall_seconds = s.at("wall_seconds").get<double>();
+    r.rhs_evaluations = s.value("rhs_evaluations", 0L);
+    r.peak_rss_mb = s.value("peak_rss_mb", 0.0);
+    const nlohmann::json& timing = s.at("timing");
+    r.seconds_per_evaluation = timing.at("seconds_per_evaluation").get<double>();
+    const double evals = timing.at("rhs_evaluations").get<double>();
+    for (const auto& [phase, seconds] : timing.at("phases").items())
+      r.seconds_per_evaluation_by_phase[phase] = evals > 0 ? seconds.get<double>() / evals : 0.0;
+    for (const char* k : {"D12", "D13", "D23", "area", "volume_drift"}) r.final_values[k] = s.at(k).get<double>();
+    for (int i = 0; i < 3; ++i) {
+      r.final_values["L" + std::to_string(i + 1)] = s.at("L").at(i).get<double>();
+      r.final_values["Le" + std::to_string(i + 1)] = s.at("Le").at(i).get<double>();
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error("'" + sp.string() + "': missing or malformed key (" + e.what() + ")");
+  }
+  const fs::path cp = dir / io::kTimeseriesCsv;
+  std::ifstream in(cp);
+  if (!in) throw std::runtime_error("cannot read '" + cp.string() + "'");
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line);
+  std::map<std::string, std::size_t> column;
+  for (std::size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
+  if (!column.count("t")) throw std::runtime_error("'" + cp.string() + "': no column 't'");
+  for (const std::string& name : observable_names())
+    if (!column.count(name)) throw std::runtime_error("'" + cp.string() + "': no column '" + name + "'");
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line);
+    if (cells.size() != header.size()) continue;  // a line cut by a crash
+    auto cell = [&](const std::string& name) { return std::strtod(cells[column.at(name)].c_str(), nullptr); };
+    r.times.push_back(cell("t"));
+    for (const std::string& name : observable_names()) r.series[name].push_back(cell(name));
+  }
+  return r;
+}
+
+}  // namespace capsflow::study

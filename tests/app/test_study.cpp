@@ -1,0 +1,239 @@
+// `capsflow study` end to end (docs/scene-and-output.md §4): a tiny study (levels 1–3, two
+// families, a membrane capsule to γ̇t = 0.25), its files, resume after an interrupted variant,
+// a variant that stopped numerically, and the one-line refusals.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string out;  // stdout and stderr together: spdlog writes both levels to stdout
+};
+
+Result capsflow(const std::string& args, const fs::path& dir) {
+  const fs::path log = dir / "log.txt";
+  const std::string cmd = std::string(CAPSFLOW_EXE) + " " + args + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, std::string(std::istreambuf_iterator<char>(in), {})};
+}
+
+struct TempDir {
+  fs::path path = fs::temp_directory_path() / ("capsflow-study-" + std::to_string(::getpid()) + "-" +
+                                               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  TempDir() {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+nlohmann::json json_of(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
+int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+// A membrane capsule (no rotation solves: fast) on levels 1–3 (80 to 1280 elements), flat and
+// curved; checkpoints every 0.1 so that a checkpoint before the end exists (t = 0.2).
+const std::string kStudy =
+    "study --levels 1,2,3 --vary fluid.geometry=flat,curved --set wall.model=membrane --set wall.law=nh "
+    "--set flow.ca_s=0.2 --set time.t_end=0.25 --set output.every=0.05 --set output.checkpoint_every=0.1 --threads 2";
+
+const char* kVariants[] = {"geometry=flat_L1", "geometry=curved_L1", "geometry=flat_L2",
+                           "geometry=curved_L2", "geometry=flat_L3", "geometry=curved_L3"};
+
+// The row of study.csv for (family, observable, time).
+std::map<std::string, std::string> csv_row(const fs::path& csv, const std::string& family, const std::string& obs,
+                                           const std::string& time) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  {
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) header.push_back(c);
+  }
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (cells.size() < 3 || cells[0] != family || cells[1] != obs || cells[2] != time) continue;
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
+    return row;
+  }
+  return {};
+}
+
+}  // namespace
+
+TEST(Study, TinyStudyRunsResumesAnInterruptedVariantAndReportsAFailedOne) {
+  TempDir d;
+  const fs::path out = d.path / "s";
+  const Result first = capsflow(kStudy + " -o " + out.string(), d.path);
+  ASSERT_EQ(first.code, 0) << first.out;
+  // One progress line per variant, each with the ETA of the rest.
+  for (const char* v : kVariants) {
+    ASSERT_TRUE(fs::exists(out / v / "summary.json")) << v;
+    EXPECT_EQ(json_of(out / v / "summary.json")["stop_reason"], "t_end") << v;
+    EXPECT_NE(first.out.find(std::string("] ") + v + ": t_end at t = 0.25"), std::string::npos) << first.out;
+  }
+  EXPECT_NE(first.out.find("ETA"), std::string::npos) << first.out;
+  for (const char* f : {"study.json", "study.csv", "study.md"}) EXPECT_TRUE(fs::exists(out / f)) << f;
+
+  // study.json: every variant finished, with its cost; the final values are the variants' own.
+  const nlohmann::json sj = json_of(out / "study.json");
+  ASSERT_EQ(sj["variants"].size(), 6u);
+  for (const auto& v : sj["variants"]) {
+    EXPECT_EQ(v["state"], "finished") << v["name"];
+    EXPECT_GT(v["rhs_evaluations"].get<long>(), 0) << v["name"];
+    EXPECT_GT(v["peak_rss_mb"].get<double>(), 0.0) << v["name"];
+    EXPECT_TRUE(v["seconds_per_evaluation_by_phase"].contains("bie_far")) << v["name"];
+  }
+  const auto curved_final_d13 = csv_row(out / "study.csv", "geometry=curved", "D13", "final");
+  ASSERT_FALSE(curved_final_d13.empty());
+  for (int l = 1; l <= 3; ++l) {
+    const double from_run = json_of(out / ("geometry=curved_L" + std::to_string(l)) / "summary.json")["D13"].get<double>();
+    EXPECT_EQ(std::stod(curved_final_d13.at("value_L" + std::to_string(l))), from_run);  // written in round-trip form
+  }
+  // At t = 0 every level is the discrete spheroid a/b = 1.4, whose D13 is exactly −1/6 on the
+  // centrally symmetric meshes (docs/conventions.md §5.2): the study must see no change with the
+  // level (round-off status) and extrapolate to −1/6.
+  const auto d13_t0 = csv_row(out / "study.csv", "geometry=flat", "D13", "0");
+  ASSERT_FALSE(d13_t0.empty());
+  EXPECT_EQ(d13_t0.at("status"), "round_off");
+  EXPECT_NEAR(std::stod(d13_t0.at("extrapolated")), -1.0 / 6, 1e-12);  // the exact value, to round-off of the moments
+  EXPECT_EQ(d13_t0.at("order"), "");  // no order is claimed
+  // Every status in the file is one of the documented ones, and only asymptotic rows carry an order.
+  std::ifstream csv(out / "study.csv");
+  std::string line;
+  std::getline(csv, line);
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> c;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) c.push_back(x);
+    ASSERT_GE(c.size(), 5u) << line;
+    EXPECT_TRUE(c[3] == "asymptotic" || c[3] == "non_monotone" || c[3] == "non_asymptotic" || c[3] == "round_off") << line;
+    EXPECT_EQ(c[4].empty(), c[3] != "asymptotic") << line;
+    EXPECT_EQ(line.find("nan"), std::string::npos) << line;
+    ++rows;
+  }
+  // 2 families × 11 observables × (final + 6 output times t = 0, 0.05, ..., 0.25).
+  EXPECT_EQ(rows, 2 * 11 * 7);
+  EXPECT_NE(slurp(out / "study.md").find("## geometry=curved at the end"), std::string::npos);
+
+  // Interrupt one variant: drop its summary and go back to its checkpoint at t = 0.2 (the run
+  // was killed between the periodic checkpoint at 0.2 and the end).
+  const fs::path interrupted = out / "geometry=curved_L2";
+  const nlohmann::json before = json_of(interrupted / "summary.json");
+  fs::remove(interrupted / "summary.json");
+  fs::rename(interrupted / "checkpoint.prev.h5", interrupted / "checkpoint.h5");
+  // And mark another one as stopped by a blow-up: it must be reported, not run again.
+  const fs::path blown = out / "geometry=flat_L2";
+  nlohmann::json b = json_of(blown / "summary.json");
+  b["stop_reason"] = "blow_up";
+  std::ofstream(blown / "summary.json") << b.dump(2);
+  const std::string blown_text = slurp(blown / "summary.json");
+  std::map<std::string, std::string> untouched;
+  for (const char* v : {"geometry=flat_L1", "geometry=curved_L1", "geometry=flat_L3", "geometry=curved_L3"})
+    untouched[v] = slurp(out / v / "summary.json");
+
+  const Result second = capsflow(kStudy + " -o " + out.string(), d.path);
+  EXPECT_EQ(second.code, 3) << second.out;  // one variant stopped numerically
+  EXPECT_NE(second.out.find("geometry=curved_L2: continuing from its checkpoint"), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("geometry=flat_L2: stopped earlier with blow_up; not run again"), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("geometry=flat_L3: finished earlier"), std::string::npos) << second.out;
+  for (const auto& [v, text] : untouched) EXPECT_EQ(slurp(out / v / "summary.json"), text) << v << " was run again";
+  EXPECT_EQ(slurp(blown / "summary.json"), blown_text);
+  // The resumed variant is the same run, continued: same id, and with the same thread count the
+  // same state as the uninterrupted run (restart equivalence, tests/app/test_cli.cpp).
+  const nlohmann::json after = json_of(interrupted / "summary.json");
+  EXPECT_EQ(after["stop_reason"], "t_end");
+  EXPECT_EQ(after["run_id"], before["run_id"]);
+  EXPECT_NEAR(after["D13"].get<double>(), before["D13"].get<double>(), 1e-13);  // bit for bit in practice
+  EXPECT_EQ(count_lines(slurp(interrupted / "timeseries.csv")), 1 + 6);  // one continuous series
+  // The failed level is left out of its family's analysis, and the study says so.
+  const nlohmann::json sj2 = json_of(out / "study.json");
+  EXPECT_EQ(sj2["variants"][2]["state"], "failed");
+  bool noted = false;
+  for (const auto& n : sj2["notes"]) noted = noted || n.get<std::string>().find("L2 failed") != std::string::npos;
+  EXPECT_TRUE(noted) << sj2["notes"].dump();
+  const auto flat_final = csv_row(out / "study.csv", "geometry=flat", "D13", "final");
+  EXPECT_EQ(flat_final.at("value_L2"), "");
+  EXPECT_EQ(flat_final.at("value_L1"), "");  // not consecutive with L3: left out too
+}
+
+TEST(Study, BadInputIsAOneLineErrorNamingTheCulpritAndChangesNothing) {
+  TempDir d;
+  const fs::path out = d.path / "s";
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"--levels 1,3", "--levels 1,3: levels must be consecutive"},
+      {"--levels 2,x", "'x' is not an integer"},
+      {"--levels 2,2,3", "level 2 is given twice"},
+      {"--levels 1,2 --vary mesh.level=1,2", "--vary mesh.level: give the levels with --levels"},
+      {"--levels 1,2 --vary fluid.geometry", "--vary fluid.geometry: expected section.key=value1,value2"},
+      {"--levels 1,2 --vary fluid.geometry=flat,bent", "'bent' is not one of"},
+      {"--levels 1,2 --vary fluid.geometryy=flat", "fluid.geometryy: unknown key"},
+      {"--levels 1,2 --set fluid.verify_every=-2", "fluid.verify_every: must be a non-negative integer"},
+      {"--levels 1,2 --set mesh.level=3", "--set mesh.level=3: a study sets mesh.level itself"},
+  };
+  for (const Case& c : cases) {
+    const Result r = capsflow("study " + c.args + " -o " + out.string(), d.path);
+    EXPECT_EQ(r.code, 1) << c.args << "\n" << r.out;
+    EXPECT_EQ(count_lines(r.out), 1) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(out)) << c.args;  // refused before anything is created
+  }
+  // A non-empty folder that holds no study is refused and left as it was.
+  fs::create_directories(out);
+  std::ofstream(out / "notes.txt") << "mine";
+  const Result r = capsflow("study --levels 1,2 -o " + out.string(), d.path);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("holds no study.json"), std::string::npos) << r.out;
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+}
+
+TEST(Study, AVariantFolderOfAnotherSceneIsRefusedUnlessOverwrite) {
+  TempDir d;
+  const fs::path out = d.path / "s";
+  const std::string tiny = "study --levels 1 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.2 "
+                           "--set time.t_end=0.02 --threads 2 -o " + out.string();
+  ASSERT_EQ(capsflow(tiny, d.path).code, 0);
+  const std::string summary = slurp(out / "L1" / "summary.json");
+  const Result other = capsflow(tiny + " --set time.t_end=0.03", d.path);
+  EXPECT_EQ(other.code, 1) << other.out;
+  EXPECT_NE(other.out.find("holds a run of another scene (time.t_end"), std::string::npos) << other.out;
+  EXPECT_EQ(slurp(out / "L1" / "summary.json"), summary);
+  const Result again = capsflow(tiny + " --set time.t_end=0.03 --overwrite", d.path);
+  EXPECT_EQ(again.code, 0) << again.out;
+  EXPECT_DOUBLE_EQ(json_of(out / "L1" / "summary.json")["t"].get<double>(), 0.03);
+}
+
+TEST(Study, TheSceneMayFollowVaryAndSet) {
+  // --vary and --set take one value per occurrence: the scene file after them is the scene.
+  TempDir d;
+  const fs::path scene = fs::path(CAPSFLOW_SOURCE_DIR) / "scenes" / "quick.toml";
+  const Result r = capsflow("study --levels 1 --threads 2 -o " + (d.path / "s").string() +
+                                " --set wall.model=membrane --set time.t_end=0.02 --vary fluid.geometry=flat " + scene.string(),
+                            d.path);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(d.path / "s" / "geometry=flat_L1" / "summary.json"));
+  EXPECT_EQ(json_of(d.path / "s" / "study.json")["study"]["scene"], scene.string());
+}
