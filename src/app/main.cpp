@@ -46,14 +46,18 @@ int main(int argc, char** argv) {
   capsflow::app::InfoOptions info;
   CLI::App* info_cmd = cli.add_subcommand("info", "print the resolved scene, mesh report, back end and stable time step");
   info_cmd->add_option("scene", info.scene_path, "scene file (TOML); default: the built-in default scene");
-  info_cmd->add_option("--set", info.overrides, "override a scene key, e.g. --set mesh.level=5");
+  // One value per --set (repeat the option): CLI11's vector options otherwise also take the scene
+  // file that follows them (`run --set a=b SCENE` ran the default scene with SCENE as an override).
+  info_cmd->add_option("--set", info.overrides, "override a scene key, e.g. --set mesh.level=5 (repeatable)")
+      ->allow_extra_args(false);
   info_cmd->add_flag("--probe", info.probe,
                      "evaluate the right-hand side (timing, spectral radius) also above 20 480 elements");
 
   capsflow::app::RunCommandOptions run;
   CLI::App* run_cmd = cli.add_subcommand("run", "run a scene (default: the built-in quick scene)");
   run_cmd->add_option("scene", run.scene_path, "scene file (TOML); default: the built-in default scene");
-  run_cmd->add_option("--set", run.overrides, "override a scene key, e.g. --set time.t_end=1");
+  run_cmd->add_option("--set", run.overrides, "override a scene key, e.g. --set time.t_end=1 (repeatable)")
+      ->allow_extra_args(false);
   auto* out_opt = run_cmd->add_option("-o,--output", run.output_dir, "output folder (default: capsflow-out)");
   run_cmd->add_flag("--overwrite", run.overwrite, "replace capsflow's files in an existing output folder");
   run_cmd->add_option("--restart", run.restart, "continue from a checkpoint (DIR/checkpoint.h5, or DIR)");

@@ -130,6 +130,18 @@ const char* kTiny = "--set mesh.level=2 --set wall.model=membrane --set wall.law
 
 }  // namespace
 
+TEST(Cli, SetBeforeTheSceneFileLeavesTheSceneFileAScene) {
+  TempDir d;
+  // `--set` takes one value: the scene file after it is the scene, not a second override.
+  const Result r = run("info --set mesh.level=1 " + (d.path / "nope.toml").string(), d.path);
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("nope.toml"), std::string::npos) << r.err;  // read as the scene (and missing)
+  const Result ok = run("info --set mesh.level=1 --set time.t_end=0.5 " + std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/quick.toml", d.path);
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("quick.toml"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("t_end = 0.5"), std::string::npos) << ok.out;
+}
+
 TEST(Cli, MissingSceneIsOneLineError) {
   TempDir d;
   const Result r = run("info " + (d.path / "nope.toml").string(), d.path);
