@@ -131,3 +131,20 @@ TEST(Health, HeunAutoStepIsStableOnElongatedSpheroidsItsConstantWasNotCalibrated
   EXPECT_LT(std::abs(s.at("volume_drift").get<double>()), 1e-6);  // the issue's bound (measured 5.7e-10)
   clean(out);
 }
+
+TEST(Health, StopAtSteadyWaitsForTheShapeToSettle) {
+  // scenes/quick.toml met the paper's area criterion at γ̇t = 1.05 (D13 = 0.1105) and stopped there,
+  // while D13 went on to 0.1158 by γ̇t = 4 (issue 12). With the full-window and D_ij-plateau tests a
+  // stop, if any, must come with D13 within 2e-3 of its value at γ̇t = 4 of an uninterrupted run
+  // (twice the 1e-3 plateau tolerance per unit time: the drift left after the plateau test).
+  const std::string scene = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/quick.toml";
+  const fs::path full = scratch("steady-full"), stop = scratch("steady-stop");
+  ASSERT_EQ(run(scene + " --set time.t_end=4", full), 0);
+  ASSERT_EQ(run(scene + " --set time.t_end=4 --set time.stop_at_steady=true", stop), 0);
+  const auto f = summary(full), s = summary(stop);
+  EXPECT_GT(s.at("t").get<double>(), 2.0 - 1e-9);  // never before the minimum time
+  if (s.at("stop_reason") == "steady") {
+    EXPECT_LT(std::abs(s.at("D13").get<double>() - f.at("D13").get<double>()), 2e-3) << s.at("t");
+  }
+  clean(full), clean(stop);
+}
