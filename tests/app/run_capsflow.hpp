@@ -2,12 +2,14 @@
 // Helpers of the end-to-end tests that run the capsflow executable (CAPSFLOW_EXE): a scratch
 // folder per test process, `capsflow run` with its output in DIR.log, and readers of summary.json
 // and timeseries.csv.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -57,6 +59,32 @@ inline std::vector<std::map<std::string, double>> series_rows(const fs::path& di
   }
   return out;
 }
+
+// Any capsflow command line; stdout and stderr together in DIR/log.txt (spdlog writes both levels
+// to stdout).
+struct Result {
+  int code;
+  std::string out;
+};
+inline Result capsflow(const std::string& args, const fs::path& dir) {
+  const fs::path log = dir / "log.txt";
+  const std::string cmd = std::string(CAPSFLOW_EXE) + " " + args + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, std::string(std::istreambuf_iterator<char>(in), {})};
+}
+
+// A fresh folder named after the suite, the process and the running test; removed at the end.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& suite)
+      : path(fs::temp_directory_path() / ("capsflow-" + suite + "-" + std::to_string(::getpid()) + "-" +
+                                          ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
 
 inline void remove_run(const fs::path& p) {
   fs::remove_all(p);

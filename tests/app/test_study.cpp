@@ -13,37 +13,19 @@
 #include <sstream>
 #include <string>
 
+#include "run_capsflow.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;  // stdout and stderr together: spdlog writes both levels to stdout
+using capsflow_test::capsflow;
+using capsflow_test::Result;
+struct TempDir : capsflow_test::TempDir {
+  TempDir() : capsflow_test::TempDir("study") {}
 };
 
-Result capsflow(const std::string& args, const fs::path& dir) {
-  const fs::path log = dir / "log.txt";
-  const std::string cmd = std::string(CAPSFLOW_EXE) + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(log);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, std::string(std::istreambuf_iterator<char>(in), {})};
-}
-
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("capsflow-study-" + std::to_string(::getpid()) + "-" +
-                                               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  TempDir() {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using capsflow_test::slurp;
 nlohmann::json json_of(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
 int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
