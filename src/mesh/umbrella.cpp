@@ -22,16 +22,29 @@ UmbrellaOperator::UmbrellaOperator(const Triangles& triangles, Eigen::Index num_
   }
 }
 
-void UmbrellaOperator::apply(const Points& p, Points& out) const {
-  const Eigen::Index n = num_nodes();
-  out.resize(n, 3);
+namespace {
+// (U p)_i for any per-node rows (N × 3 vectors or N scalars).
+template <class M>
+void apply_umbrella(const std::vector<int>& off, const std::vector<int>& nb, const M& p, M& out) {
+  const Eigen::Index n = static_cast<Eigen::Index>(off.size()) - 1;
+  out.resize(n, p.cols());
 #pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < n; ++i) {
-    Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
-    for (int k = offsets_[i]; k < offsets_[i + 1]; ++k) mean += p.row(neighbours_[k]);
-    const int deg = offsets_[i + 1] - offsets_[i];
-    out.row(i) = deg > 0 ? Eigen::RowVector3d(mean / deg - p.row(i)) : Eigen::RowVector3d::Zero();
+    const int deg = off[i + 1] - off[i];
+    if (deg == 0) {
+      out.row(i).setZero();
+      continue;
+    }
+    out.row(i).setZero();
+    for (int k = off[i]; k < off[i + 1]; ++k) out.row(i) += p.row(nb[k]);
+    out.row(i) = out.row(i) / deg - p.row(i);  // the neighbours' mean minus the value
   }
+}
+}  // namespace
+
+void UmbrellaOperator::apply(const Points& p, Points& out) const { apply_umbrella(offsets_, neighbours_, p, out); }
+void UmbrellaOperator::apply(const Eigen::VectorXd& p, Eigen::VectorXd& out) const {
+  apply_umbrella(offsets_, neighbours_, p, out);
 }
 
 Points grid_scale_pattern(const UmbrellaOperator& u, int sweeps) {

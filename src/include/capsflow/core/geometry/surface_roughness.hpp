@@ -33,8 +33,9 @@ class RoughnessMeter {
   Triangles tri_;
   UmbrellaOperator umbrella_;
   std::vector<std::array<int, 2>> edge_faces_;  // the two facets of each edge
-  mutable Points normals_, ux_, scratch_;
+  mutable Points ux_;                 // scratch of measure(), kept between calls
   mutable Eigen::VectorXd c_, uc_;
+  mutable std::vector<double> angles_, osc_;
 };
 
 // The q-quantile (0 ≤ q ≤ 1, nearest rank) of values; reorders values. 0 for an empty vector.

@@ -18,6 +18,8 @@ class UmbrellaOperator {
   Eigen::Index num_nodes() const { return static_cast<Eigen::Index>(offsets_.size()) - 1; }
   // out = U p (N × 3, any per-node vectors). out must not alias p.
   void apply(const Points& p, Points& out) const;
+  // The same for a scalar per node.
+  void apply(const Eigen::VectorXd& p, Eigen::VectorXd& out) const;
   // The neighbours of node i: neighbours()[offsets()[i] .. offsets()[i+1]).
   const std::vector<int>& offsets() const { return offsets_; }
   const std::vector<int>& neighbours() const { return neighbours_; }
