@@ -17,6 +17,7 @@
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
 #include "capsflow/core/dynamics/health_monitor.hpp"
 #include "capsflow/core/dynamics/heun.hpp"
+#include "capsflow/core/dynamics/instability_watch.hpp"
 #include "capsflow/core/dynamics/rkc.hpp"
 #include "capsflow/core/dynamics/run_health.hpp"
 #include "capsflow/core/dynamics/steady_state.hpp"
@@ -142,6 +143,7 @@ class Simulation {
   std::unique_ptr<io::ResultsWriter> out_;
   std::unique_ptr<SteadyStateDetector> steady_;
   std::unique_ptr<HealthMonitor> health_;
+  InstabilityWatch instability_;  // geometric growth of the volume drift: a blow-up at its start
   RhsCounters effort_mark_;  // counters at the last health observation
   std::filesystem::path folder_;
   RunState st_;
@@ -605,7 +607,9 @@ int Simulation::run() {
     // With the volume correction a healthy run drifts by 1e-8 (Heun) or 1e-14 (RKC): 1e-3 is an
     // instability under way. Without it the drift is physical-numerical and only runaway counts.
     const double max_drift = scene_.fluid.volume_correction ? 1e-3 : 0.05;
-    const std::string problem = check_health(SurfaceMesh{x_prev_, ref_.triangles}, st_.x, st_.volume0, max_drift);
+    std::string problem = check_health(SurfaceMesh{x_prev_, ref_.triangles}, st_.x, st_.volume0, max_drift);
+    if (problem.empty() && scene_.fluid.volume_correction)
+      problem = instability_.observe(enclosed_volume(SurfaceMesh{st_.x, ref_.triangles}) / st_.volume0 - 1);
     if (!problem.empty()) {
       spdlog::error("blow-up at step {} (t = {:g}, dt = {:.3g}): {}; keeping the last healthy state", st_.step + 1, st_.t + st_.dt,
                     st_.dt, problem);

@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include "capsflow/core/dynamics/wall_factory.hpp"
+#include "capsflow/core/mesh/stats.hpp"
 
 namespace capsflow {
 
@@ -23,6 +24,11 @@ constexpr double kMinAngleDeg = 10.0, kMaxAspect = 8.0;
 // The paper's steady cases stay below a stretch of 2; strain-softening NH in shear at high Ca
 // elongates without bound (Barthès-Biesel, Diaz & Dhenin 2002).
 constexpr double kNoEquilibriumStretch = 3.0, kNoEquilibriumGrowth = 0.03;
+// A membrane's grid-scale oscillation is buckling only where the wall is compressed: the facets
+// within this many reference edge lengths of the worst node are searched for a negative tension.
+// Elsewhere (e.g. the tips of a capsule at Ca_s = 10, under tension, a few elements across) it is
+// curvature the mesh does not resolve.
+constexpr double kCompressionProbeEdges = 3.0;
 
 std::string where(const Vec3& p) { return fmt::format("({:.2f}, {:.2f}, {:.2f})", p.x(), p.y(), p.z()); }
 }  // namespace
@@ -31,7 +37,8 @@ HealthMonitor::HealthMonitor(const Scene& scene, const SurfaceMesh& reference)
     : ref_(reference),
       bending_(scene.wall.model == WallModel::Gsmb),
       law_(scene_law(scene)),
-      meter_(reference.triangles, reference.num_nodes()) {
+      meter_(reference.triangles, reference.num_nodes()),
+      probe_radius_(kCompressionProbeEdges * mesh_stats(reference).edge_mean) {
   const SurfaceRoughness r0 = meter_.measure(reference.vertices);
   oscillation_threshold_ = std::max(kOscillationThreshold, kOscillationReferenceFactor * r0.grid_oscillation_p99);
   const ElementQuality q0 = element_quality(reference, reference.vertices);
@@ -59,7 +66,7 @@ std::vector<HealthEvent> HealthMonitor::observe(double t, const Points& x, const
   s.t = t;
   s.roughness = meter_.measure(x);
   s.quality = element_quality(ref_, x);
-  s.compression = membrane_compression(ref_, x, law_);
+  s.compression = membrane_compression(ref_, x, law_, s.roughness.worst_position, probe_radius_);
   s.effort = effort;
 
   worst_angle_ = std::max(worst_angle_, s.roughness.facet_angle_max);
@@ -83,21 +90,27 @@ std::vector<HealthEvent> HealthMonitor::observe(double t, const Points& x, const
   const SurfaceRoughness& r = s.roughness;
   const bool osc_on = r.grid_oscillation_p99 > oscillation_threshold_;
   const bool osc_off = r.grid_oscillation_p99 < 0.5 * oscillation_threshold_;
-  if (!bending_) {
-    add(update(HealthCondition::MeshScaleBuckling, osc_on, osc_off, t,
+  // A membrane oscillating where it is compressed buckles; anywhere else, and on a wall with
+  // bending stiffness, the shape varies faster than the mesh resolves.
+  const bool compressed_there = c.min_tension_near_probe < 0;
+  if (!bending_)
+    add(update(HealthCondition::MeshScaleBuckling, osc_on && compressed_there, osc_off, t,
                fmt::format("the membrane wall is under compression ({:.0f} % of its area, principal tension down to {:.2g} G_s) "
                            "and is buckling at the mesh scale near {} since γ̇t = {:.3g} (grid-scale oscillation {:.3f} > {:.3f}, "
                            "facet angles up to {:.0f}°); results after this time depend on the mesh: a wall without bending "
                            "stiffness cannot carry compression (use wall.model = \"gsmb\" with a thickness)",
                            100 * c.compressed_area_fraction, c.min_tension, where(r.worst_position), t, r.grid_oscillation_p99,
                            oscillation_threshold_, r.facet_angle_max)));
-  } else {
-    add(update(HealthCondition::UnresolvedFolds, osc_on, osc_off, t,
-               fmt::format("the wall folds at the scale of the mesh near {} since γ̇t = {:.3g} (grid-scale oscillation {:.3f} > "
-                           "{:.3f}, facet angles up to {:.0f}°): the folds are shorter than a few elements, so results after "
-                           "this time depend on the mesh (refine: mesh.level + 1 halves h)",
-                           where(r.worst_position), t, r.grid_oscillation_p99, oscillation_threshold_, r.facet_angle_max)));
-  }
+  const std::string unresolved_what =
+      bending_ ? "the wall folds at the scale of the mesh"
+               : "the membrane's shape varies at the scale of the mesh where it is in tension (no compression within "
+                 "3 elements)";
+  add(update(HealthCondition::UnresolvedFolds, osc_on && (bending_ || !compressed_there), osc_off, t,
+             fmt::format("{} near {} since γ̇t = {:.3g} (grid-scale oscillation {:.3f} > {:.3f}, facet angles up to {:.0f}°): "
+                         "{} shorter than a few elements, so results after this time depend on the mesh (refine: "
+                         "mesh.level + 1 halves h)",
+                         unresolved_what, where(r.worst_position), t, r.grid_oscillation_p99, oscillation_threshold_,
+                         r.facet_angle_max, bending_ ? "the folds are" : "its curvature varies over lengths")));
 
   const ElementQuality& q = s.quality;
   add(update(HealthCondition::ElementQuality, q.min_angle_deg < min_angle_threshold_ || q.max_aspect_ratio > aspect_threshold_,

@@ -6,13 +6,8 @@
 
 namespace capsflow {
 
-namespace {
-// The undeformed wall has T = 0 up to round-off in the stretches (≈ 1e-8 G_s measured on a level-4
-// sphere): tensions above −1e-6 G_s are not compression.
-constexpr double kRoundOff = 1e-6;
-}  // namespace
-
-MembraneCompression membrane_compression(const SurfaceMesh& reference, const Points& x, const shell::MembraneLaw& law) {
+MembraneCompression membrane_compression(const SurfaceMesh& reference, const Points& x, const shell::MembraneLaw& law,
+                                         const Vec3& probe, double probe_radius) {
   MembraneCompression m;
   const Triangles& t = reference.triangles;
   const Points& X = reference.vertices;
@@ -25,11 +20,14 @@ MembraneCompression membrane_compression(const SurfaceMesh& reference, const Poi
     const double Tmin = std::min(T1, T2) / law.Gs();
     const double ae = 0.5 * (b - a).cross(c - a).norm();
     area += ae;
-    if (Tmin < -kRoundOff) compressed += ae;
+    if (Tmin < -kCompressionRoundOff) compressed += ae;
+    const Vec3 centroid = (a + b + c) / 3;
     if (Tmin < m.min_tension) {
       m.min_tension = Tmin;
-      m.where = (a + b + c) / 3;
+      m.where = centroid;
     }
+    if (probe_radius > 0 && Tmin < -kCompressionRoundOff && Tmin < m.min_tension_near_probe && (centroid - probe).norm() <= probe_radius)
+      m.min_tension_near_probe = Tmin;
   }
   m.compressed_area_fraction = area > 0 ? compressed / area : 0;
   return m;

@@ -64,10 +64,12 @@ TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
   EXPECT_LT(max_d13_difference(ref, fast, &n), 1e-4);  // 5e-5 is enough on this smooth case (8.8e-5)
   const long e_heun = summary(heun).at("rhs_evaluations");
   const long e_rkc = summary(rkc).at("rhs_evaluations"), e_fast = summary(fast).at("rhs_evaluations");
-  // Measured 1432 / 602 = 2.4 at the default tolerance and 1432 / 322 = 4.45 at 5e-5 (2026-11-30);
-  // the target is 5 at this coarsest mesh (docs/time-integration.md §5.7: not met).
-  EXPECT_GE(static_cast<double>(e_heun) / e_rkc, 2.0) << e_heun << " vs " << e_rkc;
-  EXPECT_GE(static_cast<double>(e_heun) / e_fast, 4.0) << e_heun << " vs " << e_fast;
+  // Measured 1997 / 602 = 3.3 at the default tolerance and 1997 / 322 = 6.2 at 5e-5 (2026-11-30;
+  // Heun's automatic step includes 2/ρ since 8710966: docs/time-integration.md §5.7). The issue's
+  // floor is 5× at 5e-5-level accuracy (D13 within 1e-4, asserted above); 3 at the default
+  // tolerance, which buys 1e-5.
+  EXPECT_GE(static_cast<double>(e_heun) / e_rkc, 3.0) << e_heun << " vs " << e_rkc;
+  EXPECT_GE(static_cast<double>(e_heun) / e_fast, 5.0) << e_heun << " vs " << e_fast;
   EXPECT_LT(std::abs(summary(rkc).at("volume_drift").get<double>()), 1e-12);  // projected every step
   for (const auto& p : {ref, heun, rkc, fast}) fs::remove_all(p), fs::remove(p.string() + ".log");
 }

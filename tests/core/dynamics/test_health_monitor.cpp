@@ -50,6 +50,23 @@ TEST(HealthMonitor, GridScaleNoiseIsBucklingOnAMembraneAndUnresolvedFoldsOnAShel
   }
 }
 
+TEST(HealthMonitor, AMembraneOscillatingWhereItIsStretchedIsUnresolvedNotBuckling) {
+  // Buckling needs compression at the place that oscillates: the same grid-scale noise on a sphere
+  // inflated by 10 % (every facet in tension: the noise changes areas by ≈ 2·amp/R ≈ 1 %) is
+  // unresolved curvature, and on a sphere shrunk by 10 % (every facet compressed) it is buckling.
+  const Scene s = scene_with({"mesh.level=3", "mesh.shape=sphere", "wall.model=membrane", "wall.law=nh"});
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  for (const double scale : {1.1, 0.9}) {
+    HealthMonitor h(s, ref);
+    const auto ev = h.observe(0.1, noisy(scale * ref.vertices, 0.005), {});
+    const bool stretched = scale > 1;
+    EXPECT_EQ(has(ev, HealthCondition::UnresolvedFolds), stretched) << scale;
+    EXPECT_EQ(has(ev, HealthCondition::MeshScaleBuckling), !stretched) << scale;
+    EXPECT_EQ(h.last().compression.compressed_area_fraction > 0.99, !stretched) << scale;  // the premise
+    EXPECT_EQ(h.last().compression.compressed_area_fraction < 0.01, stretched) << scale;
+  }
+}
+
 TEST(HealthMonitor, DegenerateFacetsAndEndlessElongationAreNamed) {
   const Scene s = scene_with({"mesh.level=2", "mesh.shape=sphere", "wall.model=membrane", "wall.law=nh"});
   const SurfaceMesh ref = make_reference_mesh(s.mesh);

@@ -4,7 +4,9 @@
 // element quality, inner-solver effort), recorded at output times (timeseries.csv) and as the worst over
 // the run (summary.json), and turned into one warning per episode of a named condition:
 //   mesh_scale_buckling  a wall without bending stiffness oscillates at the two-element wavelength
-//   unresolved_folds     a wall with bending stiffness does: its folds are shorter than the mesh resolves
+//                        where it is compressed
+//   unresolved_folds     a wall with bending stiffness does (its folds are shorter than the mesh
+//                        resolves), or a membrane does where it is in tension (unresolved curvature)
 //   element_quality      facets degenerate (smallest angle, aspect ratio)
 //   no_equilibrium       the largest stretch keeps growing past kNoEquilibriumStretch
 // Thresholds are measured, with their reasons, in health_monitor.cpp.
@@ -67,6 +69,7 @@ class HealthMonitor {
   bool bending_;  // the wall has bending stiffness (GSMB)
   shell::MembraneLaw law_;
   RoughnessMeter meter_;
+  double probe_radius_;  // of the compression test at the worst grid-scale oscillation
   double oscillation_threshold_, min_angle_threshold_, aspect_threshold_;
   HealthSample last_;
   std::array<bool, kHealthConditionNames.size()> active_{};
