@@ -607,9 +607,9 @@ int Simulation::run() {
     // With the volume correction a healthy run drifts by 1e-8 (Heun) or 1e-14 (RKC): 1e-3 is an
     // instability under way. Without it the drift is physical-numerical and only runaway counts.
     const double max_drift = scene_.fluid.volume_correction ? 1e-3 : 0.05;
-    std::string problem = check_health(SurfaceMesh{x_prev_, ref_.triangles}, st_.x, st_.volume0, max_drift);
-    if (problem.empty() && scene_.fluid.volume_correction)
-      problem = instability_.observe(enclosed_volume(SurfaceMesh{st_.x, ref_.triangles}) / st_.volume0 - 1);
+    const double drift = enclosed_volume(SurfaceMesh{st_.x, ref_.triangles}) / st_.volume0 - 1;
+    std::string problem = check_health(SurfaceMesh{x_prev_, ref_.triangles}, st_.x, drift, max_drift);
+    if (problem.empty() && scene_.fluid.volume_correction) problem = instability_.observe(drift);
     if (!problem.empty()) {
       spdlog::error("blow-up at step {} (t = {:g}, dt = {:.3g}): {}; keeping the last healthy state", st_.step + 1, st_.t + st_.dt,
                     st_.dt, problem);

@@ -14,7 +14,8 @@ namespace capsflow {
 // correction keeps the drift of a healthy run near 1e-8 (quick.toml to γ̇t = 2: 7e-9), so 5 %
 // is far beyond any physical state: it is the last-resort "runaway" check.
 inline constexpr double kCollapsedAreaRatio = 1e-6;
-std::string check_health(const SurfaceMesh& before, const Points& after, double reference_volume,
+// volume_drift is V(after)/V0 − 1, computed by the caller (which also feeds it to InstabilityWatch).
+std::string check_health(const SurfaceMesh& before, const Points& after, double volume_drift,
                          double max_volume_drift = 0.05);
 
 }  // namespace capsflow
