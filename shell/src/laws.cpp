@@ -75,7 +75,7 @@ std::optional<LawKind> law_from_name(const std::string& name) {
   return std::nullopt;
 }
 
-MembraneLaw make_law(LawKind kind, double Gs, double nu_s, double skalak_c) {
+MembraneLaw make_law(LawKind kind, double Gs, double nu_s, double parameter) {
   MembraneLaw law;
   law.Gs_ = Gs;
   law.kind = kind;
@@ -88,20 +88,20 @@ MembraneLaw make_law(LawKind kind, double Gs, double nu_s, double skalak_c) {
       law.nu_ = 0.5;
       break;
     case LawKind::MooneyRivlin:
-      if (!(skalak_c >= 0.0 && skalak_c <= 1.0)) throw std::invalid_argument("make_law: mr needs 0 <= Psi <= 1");
-      law.C = skalak_c;
+      if (!(parameter >= 0.0 && parameter <= 1.0)) throw std::invalid_argument("make_law: mr needs 0 <= Psi <= 1");
+      law.C = parameter;
       break;
     case LawKind::Skalak:
-      law.C = skalak_c;
+      law.C = parameter;
       break;
   }
   return law;
 }
 
-MembraneLaw make_law(const std::string& name, double Gs, double nu_s, double skalak_c) {
+MembraneLaw make_law(const std::string& name, double Gs, double nu_s, double parameter) {
   const std::optional<LawKind> kind = law_from_name(name);
   if (!kind) throw std::invalid_argument("make_law: unknown membrane law '" + name + "' (gh | nh | skalak | mr)");
-  return make_law(*kind, Gs, nu_s, skalak_c);
+  return make_law(*kind, Gs, nu_s, parameter);
 }
 
 }  // namespace capsflow::shell

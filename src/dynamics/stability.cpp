@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "capsflow/core/dynamics/wall_factory.hpp"
 #include "capsflow/core/scene/scene.hpp"
 
 namespace capsflow {
@@ -18,7 +19,7 @@ std::string StabilityEstimate::limiting() const {
 double area_to_shear_modulus_ratio(const Scene& s) {
   // K_s/G_s = (1 + ν_s)/(1 − ν_s) with the law's own small-strain ν_s (shell/laws.hpp):
   // 3 for NH, 1 + 2C for Skalak, (1 + ν)/(1 − ν) for generalized Hooke.
-  const double nu_s = shell::make_law(s.wall.law, 1.0 / s.flow.ca_s, s.wall.poisson, s.wall.skalak_c).nu_s();
+  const double nu_s = scene_law(s).nu_s();
   return (1.0 + nu_s) / (1.0 - nu_s);
 }
 

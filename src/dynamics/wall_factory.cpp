@@ -6,7 +6,9 @@ namespace capsflow {
 
 shell::MembraneLaw scene_law(const Scene& s) {
   // Non-dimensional: μ = γ̇ = ℓ = 1, so G_s = 1/Ca_s (docs/conventions.md §1).
-  return shell::make_law(s.wall.law, 1.0 / s.flow.ca_s, s.wall.poisson, s.wall.skalak_c);
+  // shell::make_law takes the law's one extra parameter in its last slot: C for Skalak, Ψ for Mooney–Rivlin.
+  const double parameter = s.wall.law == shell::LawKind::MooneyRivlin ? s.wall.mooney_rivlin_psi : s.wall.skalak_c;
+  return shell::make_law(s.wall.law, 1.0 / s.flow.ca_s, s.wall.poisson, parameter);
 }
 
 std::unique_ptr<shell::Wall> make_wall(const Scene& s, const SurfaceMesh& ref) {

@@ -24,7 +24,7 @@ namespace {
 const std::map<std::string, std::set<std::string>>& schema() {
   static const std::map<std::string, std::set<std::string>> s = {
       {"mesh", {"base", "level", "shape", "aspect", "axis", "file"}},
-      {"wall", {"model", "law", "thickness", "poisson", "skalak_c", "max_newton"}},
+      {"wall", {"model", "law", "thickness", "poisson", "skalak_c", "mooney_rivlin_psi", "max_newton"}},
       {"flow", {"type", "ca_v", "ca_s", "gradient"}},
       {"time", {"scheme", "tolerance", "dt", "dt_safety", "t_end", "stop_at_steady", "steady_tol", "stop_on"}},
       {"fluid", {"backend", "tolerance", "geometry", "volume_correction", "fmm_order", "verify_every"}},
@@ -282,14 +282,13 @@ Scene parse_scene(const std::string& toml_text, const std::string& name, const s
   auto& w = sc.wall;
   r.get_choice("wall", "model", w.model);
   {
-    // Law names belong to shell::MembraneLaw. Mooney–Rivlin ("mr") needs a parameter key of its
-    // own before scenes can offer it.
+    // Law names belong to shell::MembraneLaw.
     std::string law;
     r.get("wall", "law", law);
     if (r.has("wall", "law")) {
       const std::optional<shell::LawKind> kind = shell::law_from_name(law);
-      if (!kind || *kind == shell::LawKind::MooneyRivlin || law != shell::to_string(*kind))  // canonical names only
-        r.fail("wall.law", r.find("wall", "law"), "'" + law + "' is not one of: gh, nh, skalak");
+      if (!kind || law != shell::to_string(*kind))  // canonical names only
+        r.fail("wall.law", r.find("wall", "law"), "'" + law + "' is not one of: gh, nh, skalak, mr");
       w.law = *kind;
     }
   }
@@ -298,6 +297,8 @@ Scene parse_scene(const std::string& toml_text, const std::string& name, const s
   r.get("wall", "poisson", w.poisson);
   r.require(w.poisson > -1 && w.poisson < 1, "wall", "poisson", "must be in (-1, 1)");
   r.get("wall", "skalak_c", w.skalak_c);
+  r.get("wall", "mooney_rivlin_psi", w.mooney_rivlin_psi);
+  r.require(w.mooney_rivlin_psi >= 0 && w.mooney_rivlin_psi <= 1, "wall", "mooney_rivlin_psi", "must be in [0, 1]");
   r.get("wall", "max_newton", w.max_newton);
   r.require(w.max_newton >= 1 && w.max_newton <= 1000, "wall", "max_newton", "must be in [1, 1000]");
   r.require(w.skalak_c > 0, "wall", "skalak_c", "must be positive");
@@ -451,7 +452,7 @@ nlohmann::json to_json(const Scene& s) {
                {"aspect", s.mesh.aspect}, {"axis", s.mesh.axis}, {"file", s.mesh.file}};
   j["wall"] = {{"model", to_string(s.wall.model)}, {"law", shell::to_string(s.wall.law)}, {"thickness", s.wall.thickness},
                {"poisson", s.wall.poisson}, {"skalak_c", s.wall.skalak_c},
-               {"max_newton", s.wall.max_newton}};
+               {"mooney_rivlin_psi", s.wall.mooney_rivlin_psi}, {"max_newton", s.wall.max_newton}};
   j["flow"] = {{"type", to_string(s.flow.type)}, {"ca_s", s.flow.ca_s}, {"ca_v", s.flow.ca_v}, {"gradient", g}};
   j["time"] = {{"scheme", to_string(s.time.scheme)}, {"tolerance", s.time.tolerance},
                {"dt", s.time.dt_auto ? nlohmann::json("auto") : nlohmann::json(s.time.dt)},
@@ -471,9 +472,10 @@ std::string to_toml(const Scene& s) {
   out += fmt::format("[mesh]\nbase = {}\nlevel = {}\nshape = {}\naspect = {}\naxis = {}\n", q(to_string(s.mesh.base)), s.mesh.level,
                      q(to_string(s.mesh.shape)), s.mesh.aspect, s.mesh.axis);
   if (!s.mesh.file.empty()) out += fmt::format("file = {}\n", q(s.mesh.file));
-  out += fmt::format("\n[wall]\nmodel = {}\nlaw = {}\nthickness = {}\npoisson = {}\nskalak_c = {}\nmax_newton = {}\n",
+  out += fmt::format("\n[wall]\nmodel = {}\nlaw = {}\nthickness = {}\npoisson = {}\nskalak_c = {}\nmooney_rivlin_psi = {}\n"
+                     "max_newton = {}\n",
                      q(to_string(s.wall.model)), q(shell::to_string(s.wall.law)), s.wall.thickness, s.wall.poisson,
-                     s.wall.skalak_c, s.wall.max_newton);
+                     s.wall.skalak_c, s.wall.mooney_rivlin_psi, s.wall.max_newton);
   out += fmt::format("\n[flow]\ntype = {}\nca_s = {}  # ca_v = ca_s * thickness = {}\n", q(to_string(s.flow.type)), s.flow.ca_s, s.flow.ca_v);
   if (s.flow.type == FlowType::Linear) {
     const Mat3& g = s.flow.gradient;

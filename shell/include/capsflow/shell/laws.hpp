@@ -83,10 +83,10 @@ const char* to_string(LawKind kind);
 /// The kind named `name` ("sk" is accepted for Skalak), or nothing.
 std::optional<LawKind> law_from_name(const std::string& name);
 
-/// nu_s is used by GH only, skalak_c by Skalak (C) and Mooney-Rivlin (Psi).
+/// nu_s is used by GH only; `parameter` is Skalak's C or Mooney-Rivlin's Psi (unused by GH and NH).
 /// Throws std::invalid_argument on parameters outside the law's range.
-MembraneLaw make_law(LawKind kind, double Gs, double nu_s = 0.5, double skalak_c = 1.0);
+MembraneLaw make_law(LawKind kind, double Gs, double nu_s = 0.5, double parameter = 1.0);
 /// Same, by name; throws std::invalid_argument on an unknown name.
-MembraneLaw make_law(const std::string& name, double Gs, double nu_s = 0.5, double skalak_c = 1.0);
+MembraneLaw make_law(const std::string& name, double Gs, double nu_s = 0.5, double parameter = 1.0);
 
 }  // namespace capsflow::shell

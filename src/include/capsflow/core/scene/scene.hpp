@@ -34,10 +34,11 @@ struct MeshSpec {
 
 struct WallSpec {
   WallModel model = WallModel::Gsmb;
-  shell::LawKind law = shell::LawKind::GeneralizedHooke;  // gh | nh | skalak (shell/laws.hpp)
+  shell::LawKind law = shell::LawKind::GeneralizedHooke;  // gh | nh | skalak | mr (shell/laws.hpp)
   double thickness = 0.03;     // h/ℓ = α (GSMB)
   double poisson = 0.5;        // ν_s = ν
   double skalak_c = 1.0;       // Skalak area-dilation parameter C
+  double mooney_rivlin_psi = 0.1;  // Mooney–Rivlin Ψ = C2/(C1 + C2) in [0, 1]; 0 is NH
   int max_newton = 20;         // GSMB: iteration cap of the rotation Newton solve (shell::GsmbOptions)
 };
 
