@@ -12,6 +12,7 @@ OUT/stability_map.png (outcome against Ca_s, one row per configuration).
 """
 import argparse
 import csv
+import io
 import itertools
 import json
 import os
@@ -23,47 +24,77 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 EXE = os.path.join(HERE, "..", "..", "build", "bin", "capsflow")
 CONDITIONS = ["mesh_scale_buckling", "unresolved_folds", "element_quality", "no_equilibrium"]
 
+NH, GH, MR = ("nh", {}), ("gh", {}), ("mr", {"wall.mooney_rivlin_psi": 0.1})
+SK1, SK10 = ("skalak", {"wall.skalak_c": 1}), ("skalak", {"wall.skalak_c": 10})
+MEMBRANE, GSMB3 = ("membrane", None), ("gsmb", 0.03)
+SPHERE, BOTH_FLOWS = [("sphere", 1.0)], ["simple_shear", "planar_hyperbolic"]
+PARAMETER_LABEL = {"wall.skalak_c": "C", "wall.mooney_rivlin_psi": "Ψ"}
+CA_ALL = [1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0]
+CA_DECADES = [1e-3, 1e-2, 0.1, 1.0, 10.0]
+
+# A matrix is a list of blocks; each block is a full product of its lists. Runs named twice run once.
 MATRICES = {
     # 1280 elements, to γ̇t = 3: a strain-softening and a strain-hardening law, both wall families,
     # both flows, two shapes, Ca_s over four decades (48 runs, ≈ 15 min on 2 cores).
-    "small": dict(ca=[1e-3, 0.1, 10.0], level=[3], t_end=3.0,
-                  walls=[("membrane", None), ("gsmb", 0.03)],
-                  laws=[("nh", {}), ("skalak", {"wall.skalak_c": 10})],
-                  shapes=[("sphere", 1.0), ("spheroid", 2.0)], flows=["simple_shear", "planar_hyperbolic"]),
-    # The issue's sweep: 1280 and 5120 elements, GSMB α = 1–20 %, a/b up to 4, to γ̇t = 10.
-    "full": dict(ca=[1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0], level=[3, 4], t_end=10.0,
-                 walls=[("membrane", None), ("gsmb", 0.01), ("gsmb", 0.03), ("gsmb", 0.1), ("gsmb", 0.2)],
-                 laws=[("nh", {}), ("gh", {}), ("skalak", {"wall.skalak_c": 1}), ("skalak", {"wall.skalak_c": 10})],
-                 shapes=[("sphere", 1.0), ("spheroid", 1.4), ("spheroid", 2.0), ("spheroid", 4.0)],
-                 flows=["simple_shear", "planar_hyperbolic"]),
+    "small": [dict(ca=[1e-3, 0.1, 10.0], level=[3], t_end=3.0, steady=False, walls=[MEMBRANE, GSMB3], laws=[NH, SK10],
+                   shapes=[("sphere", 1.0), ("spheroid", 2.0)], flows=BOTH_FLOWS)],
+    # The issue's sweep as blocks that vary one factor at a time around the NH sphere (the full product
+    # of every factor, 9 × 5 × 5 × 4 × 2 × 2 = 3600 runs per level, would take days on 2 cores).
+    # To γ̇t = 5, stopping at a steady state; 1280 elements first, then 5120, then a few at 20 480, so a
+    # campaign cut short still has complete lower levels.
+    "full": [
+        # Ca_s in half-decade steps for the membrane and every GSMB thickness.
+        dict(ca=CA_ALL, level=[3], walls=[MEMBRANE, ("gsmb", 0.01), GSMB3, ("gsmb", 0.1), ("gsmb", 0.2)], laws=[NH],
+             shapes=SPHERE, flows=BOTH_FLOWS),
+        # Every law, both wall families.
+        dict(ca=CA_DECADES, level=[3], walls=[MEMBRANE, GSMB3], laws=[GH, SK1, SK10, MR], shapes=SPHERE, flows=BOTH_FLOWS),
+        # Every spheroid, a softening and a hardening law.
+        dict(ca=CA_DECADES, level=[3], walls=[MEMBRANE, GSMB3], laws=[NH, SK10],
+             shapes=[("spheroid", 1.4), ("spheroid", 2.0), ("spheroid", 4.0)], flows=BOTH_FLOWS),
+        # The paper's resolution.
+        dict(ca=CA_DECADES, level=[4], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=[("sphere", 1.0), ("spheroid", 2.0)],
+             flows=BOTH_FLOWS),
+        dict(ca=CA_DECADES, level=[4], walls=[MEMBRANE, GSMB3], laws=[SK10], shapes=SPHERE, flows=BOTH_FLOWS),
+        # 20 480 elements: does the verdict at the two ends of the Ca_s range hold one level up?
+        dict(ca=[0.1, 10.0], level=[5], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=SPHERE, flows=["simple_shear"]),
+    ],
 }
 
 
-def runs(m):
-    for ca, level, (wall, alpha), (law, extra), (shape, aspect), flow in itertools.product(
-            m["ca"], m["level"], m["walls"], m["laws"], m["shapes"], m["flows"]):
-        name = f"L{level}_{wall}{'' if alpha is None else f'{alpha:g}'}_{law}{''.join(f'{v:g}' for v in extra.values())}" \
-               f"_{shape}{aspect:g}_{flow}_ca{ca:g}"
-        sets = {"mesh.level": level, "mesh.shape": shape, "wall.model": wall, "wall.law": law, "flow.type": flow,
-                "flow.ca_s": ca, "time.t_end": m["t_end"], "output.every": 0.1, "output.checkpoint_every": 1.0,
-                "time.stop_on": "[" + ",".join(f'"{c}"' for c in CONDITIONS) + "]",
-                # RKC for every wall: at Ca_s = 1e-3 Heun's step is 100× shorter than at 0.1.
-                "time.scheme": "rkc"}
-        if shape == "spheroid":
-            sets["mesh.aspect"] = aspect
-        if alpha is not None:
-            sets["wall.thickness"] = alpha
-        sets.update(extra)
-        yield name, dict(ca=ca, level=level, wall=wall if alpha is None else f"gsmb {alpha:g}", law=law + "".join(
-            f" C={v:g}" for v in extra.values()), shape=f"{shape} {aspect:g}", flow=flow), sets
+def runs(matrix):
+    seen = set()
+    for m in matrix:
+        t_end, steady = m.get("t_end", 5.0), m.get("steady", True)
+        for level, ca, (wall, alpha), (law, extra), (shape, aspect), flow in itertools.product(
+                m["level"], m["ca"], m["walls"], m["laws"], m["shapes"], m["flows"]):
+            name = f"L{level}_{wall}{'' if alpha is None else f'{alpha:g}'}_{law}{''.join(f'{v:g}' for v in extra.values())}" \
+                   f"_{shape}{aspect:g}_{flow}_ca{ca:g}"
+            if name in seen:
+                continue
+            seen.add(name)
+            sets = {"mesh.level": level, "mesh.shape": shape, "wall.model": wall, "wall.law": law, "flow.type": flow,
+                    "flow.ca_s": ca, "time.t_end": t_end, "output.every": 0.1, "output.checkpoint_every": 1.0,
+                    "time.stop_on": "[" + ",".join(f'"{c}"' for c in CONDITIONS) + "]",
+                    # RKC for every wall: at Ca_s = 1e-3 Heun's step is 100× shorter than at 0.1.
+                    "time.scheme": "rkc"}
+            if steady:
+                sets["time.stop_at_steady"] = "true"
+            if shape == "spheroid":
+                sets["mesh.aspect"] = aspect
+            if alpha is not None:
+                sets["wall.thickness"] = alpha
+            sets.update(extra)
+            law_label = law + "".join(f" {PARAMETER_LABEL[k]}={v:g}" for k, v in extra.items())
+            yield name, dict(ca=ca, level=level, wall=wall if alpha is None else f"gsmb {alpha:g}", law=law_label,
+                             shape=f"{shape} {aspect:g}", flow=flow), sets
 
 
-def run_one(out, name, sets, threads):
+def run_one(exe, out, name, sets, threads):
     folder = os.path.join(out, name)
     summary = os.path.join(folder, "summary.json")
     if os.path.exists(summary):
         return json.load(open(summary)), True
-    cmd = [EXE, "run", "-o", folder, "--overwrite", "--threads", str(threads)]
+    cmd = [exe, "run", "-o", folder, "--overwrite", "--threads", str(threads)]
     for k, v in sets.items():
         cmd += ["--set", f"{k}={v}"]
     with open(folder + ".log", "w") as log:
@@ -80,40 +111,60 @@ def outcome(s):
     return r.split(":")[0]
 
 
+def row_of(name, cfg, s):
+    h = s.get("health", {})
+    return dict(name=name, **cfg, outcome=outcome(s), stop_reason=s.get("stop_reason"), t=s.get("t"),
+                D12=s.get("D12"), D13=s.get("D13"), volume_drift=s.get("volume_drift"),
+                grid_oscillation_max=h.get("grid_oscillation_max"), facet_angle_max=h.get("facet_angle_max"),
+                compressed_area_fraction_max=h.get("compressed_area_fraction_max"), min_tension=h.get("min_tension"),
+                min_facet_angle=h.get("min_facet_angle"), max_stretch=h.get("max_stretch"),
+                newton_per_eval_max=h.get("newton_per_eval_max"), mass_cg_per_eval_max=h.get("mass_cg_per_eval_max"),
+                warnings=" ".join(sorted({w["condition"] for w in h.get("warnings", [])})),
+                elements=s.get("elements"), scheme=s.get("scheme"), rhs_evaluations=s.get("rhs_evaluations"),
+                wall_seconds=s.get("wall_seconds"))
+
+
+def write_atomically(path, text):
+    with open(path + ".tmp", "w", newline="") as f:
+        f.write(text)
+    os.replace(path + ".tmp", path)
+
+
+def write_tables(rows, out):
+    keys = list(rows[0].keys())
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=keys)
+    w.writeheader()
+    w.writerows(rows)
+    write_atomically(os.path.join(out, "results.csv"), buf.getvalue())
+    cols = ["level", "wall", "law", "shape", "flow", "ca", "outcome", "t", "D12", "D13", "grid_oscillation_max",
+            "facet_angle_max", "compressed_area_fraction_max", "min_facet_angle", "max_stretch", "rhs_evaluations",
+            "wall_seconds"]
+    md = "| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n"
+    for r in rows:
+        md += "| " + " | ".join(f"{r[c]:.3g}" if isinstance(r[c], float) else str(r[c]) for c in cols) + " |\n"
+    write_atomically(os.path.join(out, "results.md"), md)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--matrix", choices=MATRICES, default="small")
     ap.add_argument("-o", "--out", required=True)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--exe", default=EXE, help="capsflow binary (default: build/bin/capsflow of this checkout)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rows = []
     todo = list(runs(MATRICES[a.matrix]))
     start = time.time()
     for i, (name, cfg, sets) in enumerate(todo):
-        s, cached = run_one(a.out, name, sets, a.threads)
-        h = s.get("health", {})
-        warn = sorted({w["condition"] for w in h.get("warnings", [])})
-        row = dict(name=name, **cfg, outcome=outcome(s), t=s.get("t"), D12=s.get("D12"), D13=s.get("D13"),
-                   volume_drift=s.get("volume_drift"), grid_oscillation_max=h.get("grid_oscillation_max"),
-                   min_facet_angle=h.get("min_facet_angle"), max_stretch=h.get("max_stretch"),
-                   warnings=" ".join(warn), wall_seconds=s.get("wall_seconds"), scheme=s.get("scheme"),
-                   rhs_evaluations=s.get("rhs_evaluations"))
-        rows.append(row)
+        s, cached = run_one(a.exe, a.out, name, sets, a.threads)
+        rows.append(row_of(name, cfg, s))
+        write_tables(rows, a.out)  # after every run: a campaign cut short keeps its table
         el = time.time() - start
-        cost = "cached" if cached else f"{row['wall_seconds'] or 0:.0f} s"
-        print(f"[{i + 1}/{len(todo)}] {name}: {row['outcome']} at t = {row['t']} ({cost}; elapsed {el:.0f} s)", flush=True)
-    keys = list(rows[0].keys())
-    with open(os.path.join(a.out, "results.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
-    with open(os.path.join(a.out, "results.md"), "w") as f:
-        cols = ["wall", "law", "shape", "flow", "ca", "outcome", "t", "D12", "D13", "grid_oscillation_max",
-                "min_facet_angle", "max_stretch", "wall_seconds"]
-        f.write("| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n")
-        for r in rows:
-            f.write("| " + " | ".join(f"{r[c]:.3g}" if isinstance(r[c], float) else str(r[c]) for c in cols) + " |\n")
+        cost = "cached" if cached else f"{rows[-1]['wall_seconds'] or 0:.0f} s"
+        print(f"[{i + 1}/{len(todo)}] {name}: {rows[-1]['outcome']} at t = {rows[-1]['t']} ({cost}; elapsed {el:.0f} s)",
+              flush=True)
     stability_map(rows, os.path.join(a.out, "stability_map.png"))
 
 
@@ -124,12 +175,12 @@ def stability_map(rows, path):
     colors = {"t_end": "#2ca02c", "steady": "#1f77b4", "mesh_scale_buckling": "#ff7f0e", "unresolved_folds": "#bcbd22",
               "element_quality": "#9467bd", "no_equilibrium": "#8c564b", "blow_up": "#d62728",
               "solver_failure": "#e377c2", "no_progress": "#7f7f7f"}
-    configs = sorted({(r["wall"], r["law"], r["shape"], r["flow"]) for r in rows})
+    configs = sorted({(f"L{r['level']}", r["wall"], r["law"], r["shape"], r["flow"]) for r in rows})
     cas = sorted({r["ca"] for r in rows})
     fig, ax = plt.subplots(figsize=(7, 0.28 * len(configs) + 1.5))
     for y, c in enumerate(configs):
         for r in rows:
-            if (r["wall"], r["law"], r["shape"], r["flow"]) == c:
+            if (f"L{r['level']}", r["wall"], r["law"], r["shape"], r["flow"]) == c:
                 ax.scatter(cas.index(r["ca"]), y, s=90, marker="s", color=colors.get(r["outcome"], "k"))
     ax.set_yticks(range(len(configs)))
     ax.set_yticklabels([" | ".join(c) for c in configs], fontsize=6)
