@@ -199,6 +199,8 @@ void Simulation::setup() {
   steady_ = std::make_unique<SteadyStateDetector>(scene_.time.steady_tol);
   dyn_ = std::make_unique<CapsuleDynamics>(scene_, ref_, threads_);
   health_ = std::make_unique<HealthMonitor>(scene_, ref_);
+  instability_ = InstabilityWatch(scene_.fluid.volume_correction ? InstabilityWatch::Volume::Corrected
+                                                                 : InstabilityWatch::Volume::Uncorrected);
   far_check_ = std::make_unique<FarFieldWatch>(scene_.fluid.verify_every, scene_.fluid.tolerance);
   rhs_ = [this](const Points& x, Points& v) { dyn_->velocity(x, v); };
   if (scene_.time.scheme == TimeScheme::Rkc) {
@@ -609,7 +611,7 @@ int Simulation::run() {
     const double max_drift = scene_.fluid.volume_correction ? 1e-3 : 0.05;
     const double drift = enclosed_volume(SurfaceMesh{st_.x, ref_.triangles}) / st_.volume0 - 1;
     std::string problem = check_health(SurfaceMesh{x_prev_, ref_.triangles}, st_.x, drift, max_drift);
-    if (problem.empty() && scene_.fluid.volume_correction) problem = instability_.observe(drift);
+    if (problem.empty()) problem = instability_.observe(drift, o.dt);
     if (!problem.empty()) {
       spdlog::error("blow-up at step {} (t = {:g}, dt = {:.3g}): {}; keeping the last healthy state", st_.step + 1, st_.t + st_.dt,
                     st_.dt, problem);

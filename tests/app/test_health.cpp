@@ -115,6 +115,31 @@ TEST(Health, AFixedStepAboveTheEstimateWarnsAndStopsBeforeTheVolumeDriftsOrNaN) 
   clean(out);
 }
 
+TEST(Health, WithoutTheVolumeCorrectionAnOverSteppedRunStopsBeforeTheDriftPasses1e3) {
+  // The same over-stepped case with fluid.volume_correction = false. Measured before the rate watch
+  // (2026-11-30): the instability saturates in grid-scale folds and the run reached t_end = 2 with exit 0
+  // and a −3.6 % volume drift. The same scene at dt = "auto" is healthy and must run to t_end.
+  const std::string tiny = "--set mesh.level=2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.05 "
+                           "--set fluid.volume_correction=false --set time.t_end=2 ";
+  const capsflow::Scene sc =
+      capsflow::parse_scene(capsflow::default_scene_toml(), "test",
+                            {"mesh.level=2", "wall.model=membrane", "wall.law=nh", "flow.ca_s=0.05"});
+  const capsflow::SurfaceMesh ref = capsflow::make_reference_mesh(sc.mesh);
+  const double limit = capsflow::stability_estimate(sc, capsflow::min_edge_length(ref)).limit();
+  const fs::path out = scratch("fixed-dt-uncorrected");
+  EXPECT_EQ(run(tiny + "--set time.dt=" + std::to_string(1.5 * limit), out), 3) << slurp(out.string() + ".log");
+  EXPECT_EQ(summary(out).at("stop_reason"), "blow_up");
+  EXPECT_NE(slurp(out.string() + ".log").find("drift rate"), std::string::npos);  // the rate watch, not a runaway check
+  EXPECT_EQ(slurp(out / "timeseries.csv").find("nan"), std::string::npos);
+  // The bound: measured 5.3e-4 at the stop (γ̇t = 0.55).
+  for (const auto& row : series(out)) EXPECT_LT(std::abs(row.at("volume_drift")), 1e-3) << "t = " << row.at("t");
+  clean(out);
+  const fs::path healthy = scratch("auto-dt-uncorrected");
+  EXPECT_EQ(run(tiny, healthy), 0) << slurp(healthy.string() + ".log");
+  EXPECT_EQ(summary(healthy).at("stop_reason"), "t_end");
+  clean(healthy);
+}
+
 TEST(Health, SafetyFactorAboveTheMeasuredStableRangeIsRefused) {
   const fs::path out = scratch("safety");
   EXPECT_EQ(run("--set time.dt_safety=1.4 --set time.t_end=0.1", out), 1);
