@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 
 #include "capsflow/shell/director.hpp"
@@ -17,6 +18,9 @@ bool trace_enabled() {
   static const bool on = std::getenv("CAPSFLOW_SHELL_TRACE") != nullptr;
   return on;
 }
+// A healthy step with the frozen tangent divides the residual by 50–1000; one that divides it by less
+// than 2 has a stale tangent.
+constexpr double kStaleTangent = 0.5;
 }  // namespace
 
 GsmbWall::GsmbWall(const Points& X, const Triangles& tri, MembraneLaw law, GsmbOptions opt)
@@ -245,6 +249,7 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
   // correction (the usual RK stage), the first pass skips it and computes only R_theta and K; the
   // x-forces come from the pass at the converged directors. Results do not depend on this choice.
   const bool lazy_fx = last_newton_ > 0;
+  double previous = std::numeric_limits<double>::infinity();
   for (int it = 0;; ++it) {
     // tangent built at the first Newton step of each call and reused by the later steps of the
     // same call (they start within O(newton step^2) of the solution; the residual is exact)
@@ -252,6 +257,13 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     evaluate(x, nullptr, nullptr, it == 0, want_fx);
     double res = 0;
     for (int i = 0; i < n2; ++i) res = std::max(res, std::abs(Rth_[i]) / kdiag_[i]);
+    if (it > 0 && res > opt_.newton_tol && res > kStaleTangent * previous) {
+      // The frozen tangent no longer contracts: the iterate has moved far from where it was built,
+      // as when it leaves a saddle (gsmb_wall.hpp, max_newton). Rebuild it at this iterate; with a
+      // tangent frozen at the saddle the escape ends in a 2-cycle at residual 0.2 (measured).
+      evaluate(x, nullptr, nullptr, true, want_fx);
+    }
+    previous = res;
     st.residual = res;
     if (res <= opt_.newton_tol && !want_fx) evaluate(x, nullptr, nullptr, false, true);
     if (trace_enabled()) std::fprintf(stderr, "newton %d residual %.3e\n", it, res);
@@ -262,7 +274,9 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     }
     Rth_ = -Rth_;
     double rr = 0;
-    st.cg_iterations += pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
+    const int cg = pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
+    st.cg_iterations += cg;
+    if (trace_enabled()) std::fprintf(stderr, "  cg %d relres %.2e\n", cg, rr);
     double big = 0;
     for (int i = 0; i < topo_.n_nodes; ++i)
       big = std::max(big, std::hypot(dw_[2 * i], dw_[2 * i + 1]));

@@ -512,8 +512,9 @@ void Simulation::finish(const std::string& stop_reason) {
   summary["mesh_hash"] = mesh_hash_;
   out_->write_summary(summary);
   const auto& ph = timing["phases"];
-  spdlog::info("stopped: {} at t = {:g} after {} steps ({} rejected), {} right-hand-side evaluations, {:.1f} s", stop_reason,
-               st_.t, st_.step, st_.rejected_steps, rhs_evaluations(), wall_seconds());
+  // The reason's details (after ':') were logged when it happened; here its name is enough.
+  spdlog::info("stopped: {} at t = {:g} after {} steps ({} rejected), {} right-hand-side evaluations, {:.1f} s",
+               stop_reason.substr(0, stop_reason.find(':')), st_.t, st_.step, st_.rejected_steps, rhs_evaluations(), wall_seconds());
   spdlog::info("phase                       seconds   share");
   const double total = timing["total_seconds"].get<double>();
   for (const auto& [k, v] : ph.items())

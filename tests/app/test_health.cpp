@@ -91,6 +91,23 @@ TEST(Health, AFailedRotationSolveStopsWithItsReasonAndAReadableFolder) {
   clean(out);
 }
 
+TEST(Health, RotationsAreSolvedPastASaddleInAFoldedShell) {
+  // Found by the stress campaign (2026-11-30): GSMB NH sphere, Ca_s = 1, planar hyperbolic flow,
+  // 1280 elements. At γ̇t = 1.18 the folded wall makes the rotation equilibrium a saddle; the Newton
+  // iteration needs 45–47 steps to leave it (docs/shell.md §2.4), and the run stopped with
+  // solver_failure at the former cap of 20 (which still fails: the check that this test can fail).
+  const std::string scene = "--set mesh.level=3 --set mesh.shape=sphere --set wall.law=nh --set flow.ca_s=1 "
+                            "--set flow.type=planar_hyperbolic --set time.scheme=rkc --set time.t_end=1.3 ";
+  const fs::path out = scratch("saddle");
+  EXPECT_EQ(run(scene, out), 0) << slurp(out.string() + ".log");
+  EXPECT_EQ(summary(out).at("stop_reason"), "t_end");
+  clean(out);
+  const fs::path capped = scratch("saddle-capped");
+  EXPECT_EQ(run(scene + "--set wall.max_newton=20", capped), 3) << slurp(capped.string() + ".log");
+  EXPECT_EQ(summary(capped).at("stop_reason").get<std::string>().rfind("solver_failure: rotation Newton", 0), 0u);
+  clean(capped);
+}
+
 TEST(Health, AFixedStepAboveTheEstimateWarnsAndStopsBeforeTheVolumeDriftsOrNaN) {
   const std::string tiny = "--set mesh.level=2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.05 ";
   const capsflow::Scene sc =

@@ -39,7 +39,7 @@ struct WallSpec {
   double poisson = 0.5;        // ν_s = ν
   double skalak_c = 1.0;       // Skalak area-dilation parameter C
   double mooney_rivlin_psi = 0.1;  // Mooney–Rivlin Ψ = C2/(C1 + C2) in [0, 1]; 0 is NH
-  int max_newton = 20;         // GSMB: iteration cap of the rotation Newton solve (shell::GsmbOptions)
+  int max_newton = 100;        // GSMB: iteration cap of the rotation Newton solve (shell::GsmbOptions)
 };
 
 struct FlowSpec {
