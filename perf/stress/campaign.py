@@ -48,15 +48,24 @@ MATRICES = {
              shapes=SPHERE, flows=BOTH_FLOWS),
         # Every law, both wall families.
         dict(ca=CA_DECADES, level=[3], walls=[MEMBRANE, GSMB3], laws=[GH, SK1, SK10, MR], shapes=SPHERE, flows=BOTH_FLOWS),
-        # Every spheroid, a softening and a hardening law.
+        # Every spheroid, a softening and a hardening law (a/b = 4 at the two smallest Ca_s last: it
+        # tumbles, never steadies and costs ~10 min per run).
         dict(ca=CA_DECADES, level=[3], walls=[MEMBRANE, GSMB3], laws=[NH, SK10],
-             shapes=[("spheroid", 1.4), ("spheroid", 2.0), ("spheroid", 4.0)], flows=BOTH_FLOWS),
+             shapes=[("spheroid", 1.4), ("spheroid", 2.0)], flows=BOTH_FLOWS),
+        dict(ca=[0.1, 1.0, 10.0], level=[3], walls=[MEMBRANE, GSMB3], laws=[NH, SK10], shapes=[("spheroid", 4.0)],
+             flows=BOTH_FLOWS),
         # The paper's resolution.
         dict(ca=CA_DECADES, level=[4], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=[("sphere", 1.0), ("spheroid", 2.0)],
              flows=BOTH_FLOWS),
         dict(ca=CA_DECADES, level=[4], walls=[MEMBRANE, GSMB3], laws=[SK10], shapes=SPHERE, flows=BOTH_FLOWS),
         # 20 480 elements: does the verdict at the two ends of the Ca_s range hold one level up?
         dict(ca=[0.1, 10.0], level=[5], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=SPHERE, flows=["simple_shear"]),
+        # Past the folds: a shell stopping only on no_equilibrium and element_quality (the fold flags are
+        # still recorded as warnings), to γ̇t = 10 — where does a strain-softening law lose its equilibrium?
+        dict(ca=[0.3, 1.0, 3.0, 10.0], level=[3], walls=[GSMB3], laws=[NH, SK10, MR], shapes=SPHERE, flows=BOTH_FLOWS,
+             t_end=10.0, stop_on=["no_equilibrium", "element_quality"], tag="past_folds"),
+        dict(ca=[1e-3, 1e-2], level=[3], walls=[MEMBRANE, GSMB3], laws=[NH, SK10], shapes=[("spheroid", 4.0)],
+             flows=BOTH_FLOWS),
     ],
 }
 
@@ -64,17 +73,17 @@ MATRICES = {
 def runs(matrix):
     seen = set()
     for m in matrix:
-        t_end, steady = m.get("t_end", 5.0), m.get("steady", True)
+        t_end, steady, stop_on = m.get("t_end", 5.0), m.get("steady", True), m.get("stop_on", CONDITIONS)
         for level, ca, (wall, alpha), (law, extra), (shape, aspect), flow in itertools.product(
                 m["level"], m["ca"], m["walls"], m["laws"], m["shapes"], m["flows"]):
             name = f"L{level}_{wall}{'' if alpha is None else f'{alpha:g}'}_{law}{''.join(f'{v:g}' for v in extra.values())}" \
-                   f"_{shape}{aspect:g}_{flow}_ca{ca:g}"
+                   f"_{shape}{aspect:g}_{flow}_ca{ca:g}" + (f"_{m['tag']}" if "tag" in m else "")
             if name in seen:
                 continue
             seen.add(name)
             sets = {"mesh.level": level, "mesh.shape": shape, "wall.model": wall, "wall.law": law, "flow.type": flow,
                     "flow.ca_s": ca, "time.t_end": t_end, "output.every": 0.1, "output.checkpoint_every": 1.0,
-                    "time.stop_on": "[" + ",".join(f'"{c}"' for c in CONDITIONS) + "]",
+                    "time.stop_on": "[" + ",".join(f'"{c}"' for c in stop_on) + "]",
                     # RKC for every wall: at Ca_s = 1e-3 Heun's step is 100× shorter than at 0.1.
                     "time.scheme": "rkc"}
             if steady:
@@ -86,7 +95,7 @@ def runs(matrix):
             sets.update(extra)
             law_label = law + "".join(f" {PARAMETER_LABEL[k]}={v:g}" for k, v in extra.items())
             yield name, dict(ca=ca, level=level, wall=wall if alpha is None else f"gsmb {alpha:g}", law=law_label,
-                             shape=f"{shape} {aspect:g}", flow=flow), sets
+                             shape=f"{shape} {aspect:g}", flow=flow, stops_on="all" if "tag" not in m else m["tag"]), sets
 
 
 def run_one(exe, out, name, sets, threads):
@@ -175,12 +184,15 @@ def stability_map(rows, path):
     colors = {"t_end": "#2ca02c", "steady": "#1f77b4", "mesh_scale_buckling": "#ff7f0e", "unresolved_folds": "#bcbd22",
               "element_quality": "#9467bd", "no_equilibrium": "#8c564b", "blow_up": "#d62728",
               "solver_failure": "#e377c2", "no_progress": "#7f7f7f"}
-    configs = sorted({(f"L{r['level']}", r["wall"], r["law"], r["shape"], r["flow"]) for r in rows})
+    def config(r):
+        return (f"L{r['level']}", r["wall"], r["law"], r["shape"], r["flow"]) + \
+               (() if r.get("stops_on", "all") == "all" else (r["stops_on"],))
+    configs = sorted({config(r) for r in rows})
     cas = sorted({r["ca"] for r in rows})
     fig, ax = plt.subplots(figsize=(7, 0.28 * len(configs) + 1.5))
     for y, c in enumerate(configs):
         for r in rows:
-            if (f"L{r['level']}", r["wall"], r["law"], r["shape"], r["flow"]) == c:
+            if config(r) == c:
                 ax.scatter(cas.index(r["ca"]), y, s=90, marker="s", color=colors.get(r["outcome"], "k"))
     ax.set_yticks(range(len(configs)))
     ax.set_yticklabels([" | ".join(c) for c in configs], fontsize=6)
