@@ -38,6 +38,14 @@ double at(const std::vector<std::map<std::string, double>>& s, double t, const s
 }
 
 void clean(const fs::path& p) { capsflow_test::remove_run(p); }
+// The over-stepped case of the blow-up tests: 320-element NH membrane at Ca_s = 0.05 (its --set
+// options), and Heun's stability estimate for it.
+const std::string kOverStepped = "--set mesh.level=2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.05 ";
+double over_stepped_estimate() {
+  const capsflow::Scene sc = capsflow::parse_scene(capsflow::default_scene_toml(), "test",
+                                                   {"mesh.level=2", "wall.model=membrane", "wall.law=nh", "flow.ca_s=0.05"});
+  return capsflow::stability_estimate(sc, capsflow::min_edge_length(capsflow::make_reference_mesh(sc.mesh))).limit();
+}
 
 }  // namespace
 
@@ -109,14 +117,8 @@ TEST(Health, RotationsAreSolvedPastASaddleInAFoldedShell) {
 }
 
 TEST(Health, AFixedStepAboveTheEstimateWarnsAndStopsBeforeTheVolumeDriftsOrNaN) {
-  const std::string tiny = "--set mesh.level=2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.05 ";
-  const capsflow::Scene sc =
-      capsflow::parse_scene(capsflow::default_scene_toml(), "test",
-                            {"mesh.level=2", "wall.model=membrane", "wall.law=nh", "flow.ca_s=0.05"});
-  const capsflow::SurfaceMesh ref = capsflow::make_reference_mesh(sc.mesh);
-  const double limit = capsflow::stability_estimate(sc, capsflow::min_edge_length(ref)).limit();
   const fs::path out = scratch("fixed-dt");
-  const int code = run(tiny + "--set time.t_end=2 --set time.dt=" + std::to_string(1.5 * limit), out);
+  const int code = run(kOverStepped + "--set time.t_end=2 --set time.dt=" + std::to_string(1.5 * over_stepped_estimate()), out);
   EXPECT_EQ(code, 3) << slurp(out.string() + ".log");
   EXPECT_EQ(summary(out).at("stop_reason"), "blow_up");
   EXPECT_NE(slurp(out.string() + ".log").find("stability estimate"), std::string::npos);  // warned at start
@@ -124,11 +126,12 @@ TEST(Health, AFixedStepAboveTheEstimateWarnsAndStopsBeforeTheVolumeDriftsOrNaN) 
   for (const auto& row : series(out)) EXPECT_LT(std::abs(row.at("volume_drift")), 1e-3) << "t = " << row.at("t");
   const auto ck = capsflow::io::read_checkpoint(out / "checkpoint.h5");  // the kept state is healthy
   const double v = capsflow::enclosed_volume(capsflow::SurfaceMesh{ck.positions, ck.triangles});
-  EXPECT_LT(std::abs(v / capsflow::enclosed_volume(ref) - 1), 1e-3);
+  const double v0 = capsflow::enclosed_volume(capsflow::SurfaceMesh{ck.reference_positions, ck.triangles});
+  EXPECT_LT(std::abs(v / v0 - 1), 1e-3);
   // Caught by the geometric growth of the drift (dynamics/instability_watch.hpp), not by the 1e-3
   // runaway check: measured 7.8e-6 at the stop (2026-11-30); 1e-4 leaves 10× on either side.
   EXPECT_NE(slurp(out.string() + ".log").find("growing"), std::string::npos);
-  EXPECT_LT(std::abs(v / capsflow::enclosed_volume(ref) - 1), 1e-4);
+  EXPECT_LT(std::abs(v / v0 - 1), 1e-4);
   clean(out);
 }
 
@@ -136,15 +139,9 @@ TEST(Health, WithoutTheVolumeCorrectionAnOverSteppedRunStopsBeforeTheDriftPasses
   // The same over-stepped case with fluid.volume_correction = false. Measured before the rate watch
   // (2026-11-30): the instability saturates in grid-scale folds and the run reached t_end = 2 with exit 0
   // and a −3.6 % volume drift. The same scene at dt = "auto" is healthy and must run to t_end.
-  const std::string tiny = "--set mesh.level=2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.05 "
-                           "--set fluid.volume_correction=false --set time.t_end=2 ";
-  const capsflow::Scene sc =
-      capsflow::parse_scene(capsflow::default_scene_toml(), "test",
-                            {"mesh.level=2", "wall.model=membrane", "wall.law=nh", "flow.ca_s=0.05"});
-  const capsflow::SurfaceMesh ref = capsflow::make_reference_mesh(sc.mesh);
-  const double limit = capsflow::stability_estimate(sc, capsflow::min_edge_length(ref)).limit();
+  const std::string tiny = kOverStepped + "--set fluid.volume_correction=false --set time.t_end=2 ";
   const fs::path out = scratch("fixed-dt-uncorrected");
-  EXPECT_EQ(run(tiny + "--set time.dt=" + std::to_string(1.5 * limit), out), 3) << slurp(out.string() + ".log");
+  EXPECT_EQ(run(tiny + "--set time.dt=" + std::to_string(1.5 * over_stepped_estimate()), out), 3) << slurp(out.string() + ".log");
   EXPECT_EQ(summary(out).at("stop_reason"), "blow_up");
   EXPECT_NE(slurp(out.string() + ".log").find("drift rate"), std::string::npos);  // the rate watch, not a runaway check
   EXPECT_EQ(slurp(out / "timeseries.csv").find("nan"), std::string::npos);
