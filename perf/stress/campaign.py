@@ -40,8 +40,9 @@ MATRICES = {
                    shapes=[("sphere", 1.0), ("spheroid", 2.0)], flows=BOTH_FLOWS)],
     # The sweep as blocks that vary one factor at a time around the NH sphere (the full product
     # of every factor, 9 × 5 × 5 × 4 × 2 × 2 = 3600 runs per level, would take days on 2 cores).
-    # To γ̇t = 5, stopping at a steady state; 1280 elements first, then 5120, then a few at 20 480, so a
-    # campaign cut short still has complete lower levels.
+    # To γ̇t = 5, stopping at a steady state; the cheap and the telling runs first (1280 elements, the
+    # shells past their folds, 5120 elements at Ca_s ≥ 0.1, a few at 20 480), the stiff ones last, so a
+    # campaign cut short still has complete blocks.
     "full": [
         # Ca_s in half-decade steps for the membrane and every GSMB thickness.
         dict(ca=CA_ALL, level=[3], walls=[MEMBRANE, ("gsmb", 0.01), GSMB3, ("gsmb", 0.1), ("gsmb", 0.2)], laws=[NH],
@@ -54,16 +55,19 @@ MATRICES = {
              shapes=[("spheroid", 1.4), ("spheroid", 2.0)], flows=BOTH_FLOWS),
         dict(ca=[0.1, 1.0, 10.0], level=[3], walls=[MEMBRANE, GSMB3], laws=[NH, SK10], shapes=[("spheroid", 4.0)],
              flows=BOTH_FLOWS),
-        # The paper's resolution.
-        dict(ca=CA_DECADES, level=[4], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=[("sphere", 1.0), ("spheroid", 2.0)],
-             flows=BOTH_FLOWS),
-        dict(ca=CA_DECADES, level=[4], walls=[MEMBRANE, GSMB3], laws=[SK10], shapes=SPHERE, flows=BOTH_FLOWS),
-        # 20 480 elements: does the verdict at the two ends of the Ca_s range hold one level up?
-        dict(ca=[0.1, 10.0], level=[5], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=SPHERE, flows=["simple_shear"]),
         # Past the folds: a shell stopping only on no_equilibrium and element_quality (the fold flags are
         # still recorded as warnings), to γ̇t = 10 — where does a strain-softening law lose its equilibrium?
         dict(ca=[0.3, 1.0, 3.0, 10.0], level=[3], walls=[GSMB3], laws=[NH, SK10, MR], shapes=SPHERE, flows=BOTH_FLOWS,
              t_end=10.0, stop_on=["no_equilibrium", "element_quality"], tag="past_folds"),
+        # The paper's resolution, the moderate and large Ca_s first.
+        dict(ca=[0.1, 1.0, 10.0], level=[4], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=[("sphere", 1.0), ("spheroid", 2.0)],
+             flows=BOTH_FLOWS),
+        dict(ca=[0.1, 1.0, 10.0], level=[4], walls=[MEMBRANE, GSMB3], laws=[SK10], shapes=SPHERE, flows=BOTH_FLOWS),
+        # 20 480 elements: does the verdict at the two ends of the Ca_s range hold one level up?
+        dict(ca=[0.1, 10.0], level=[5], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=SPHERE, flows=["simple_shear"]),
+        dict(ca=[1e-3, 1e-2], level=[4], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=[("sphere", 1.0), ("spheroid", 2.0)],
+             flows=BOTH_FLOWS),
+        dict(ca=[1e-3, 1e-2], level=[4], walls=[MEMBRANE, GSMB3], laws=[SK10], shapes=SPHERE, flows=BOTH_FLOWS),
         dict(ca=[1e-3, 1e-2], level=[3], walls=[MEMBRANE, GSMB3], laws=[NH, SK10], shapes=[("spheroid", 4.0)],
              flows=BOTH_FLOWS),
     ],
