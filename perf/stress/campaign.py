@@ -65,6 +65,8 @@ MATRICES = {
         dict(ca=[0.1, 1.0, 10.0], level=[4], walls=[MEMBRANE, GSMB3], laws=[SK10], shapes=SPHERE, flows=BOTH_FLOWS),
         # 20 480 elements: does the verdict at the two ends of the Ca_s range hold one level up?
         dict(ca=[0.1, 10.0], level=[5], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=SPHERE, flows=["simple_shear"]),
+        # The thinnest shell folds at Ca_s = 0.01–0.03 at 1280 elements where α ≥ 3 % does not: one level up.
+        dict(ca=[0.01, 0.03], level=[4], walls=[("gsmb", 0.01)], laws=[NH], shapes=SPHERE, flows=["planar_hyperbolic"]),
         dict(ca=[1e-3, 1e-2], level=[4], walls=[MEMBRANE, GSMB3], laws=[NH], shapes=[("sphere", 1.0), ("spheroid", 2.0)],
              flows=BOTH_FLOWS),
         dict(ca=[1e-3, 1e-2], level=[4], walls=[MEMBRANE, GSMB3], laws=[SK10], shapes=SPHERE, flows=BOTH_FLOWS),
@@ -102,11 +104,13 @@ def runs(matrix):
                              shape=f"{shape} {aspect:g}", flow=flow, stops_on="all" if "tag" not in m else m["tag"]), sets
 
 
-def run_one(exe, out, name, sets, threads):
+def run_one(exe, out, name, sets, threads, report_only=False):
     folder = os.path.join(out, name)
     summary = os.path.join(folder, "summary.json")
     if os.path.exists(summary):
         return json.load(open(summary)), True
+    if report_only:
+        return None, True
     cmd = [exe, "run", "-o", folder, "--overwrite", "--threads", str(threads)]
     for k, v in sets.items():
         cmd += ["--set", f"{k}={v}"]
@@ -156,7 +160,27 @@ def write_tables(rows, out):
     md = "| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n"
     for r in rows:
         md += "| " + " | ".join(f"{r[c]:.3g}" if isinstance(r[c], float) else str(r[c]) for c in cols) + " |\n"
-    write_atomically(os.path.join(out, "results.md"), md)
+    write_atomically(os.path.join(out, "results.md"), outcome_grid(rows) + "\n" + md)
+
+
+LETTER = {"steady": "S", "t_end": "T", "mesh_scale_buckling": "B", "unresolved_folds": "F", "no_equilibrium": "N",
+          "element_quality": "Q", "blow_up": "X", "solver_failure": "!", "no_progress": "P"}
+
+
+def outcome_grid(rows):
+    """One line per configuration, one column per Ca_s: the outcome's letter and the γ̇t it ended at."""
+    cas = sorted({r["ca"] for r in rows})
+    grid = {}
+    for r in rows:
+        key = (f"{r['level']}", r["wall"], r["law"], r["shape"], r["flow"].replace("planar_", ""), r["stops_on"])
+        grid.setdefault(key, {})[r["ca"]] = f"{LETTER.get(r['outcome'], '?')} {r['t']:.2g}" if r["t"] is not None else "?"
+    legend = ", ".join(f"{v} {k}" for k, v in LETTER.items())
+    md = f"Outcome and γ̇t reached ({legend}; empty: not in the matrix or not run).\n\n"
+    md += "| level | wall | law | shape | flow | stops on | " + " | ".join(f"Ca_s {c:g}" for c in cas) + " |\n"
+    md += "|---" * (6 + len(cas)) + "|\n"
+    for key, by_ca in grid.items():
+        md += "| " + " | ".join(key) + " | " + " | ".join(by_ca.get(c, "") for c in cas) + " |\n"
+    return md
 
 
 def main():
@@ -165,13 +189,16 @@ def main():
     ap.add_argument("-o", "--out", required=True)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--exe", default=EXE, help="capsflow binary (default: build/bin/capsflow of this checkout)")
+    ap.add_argument("--report-only", action="store_true", help="run nothing: tables and map from the finished runs")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rows = []
     todo = list(runs(MATRICES[a.matrix]))
     start = time.time()
     for i, (name, cfg, sets) in enumerate(todo):
-        s, cached = run_one(a.exe, a.out, name, sets, a.threads)
+        s, cached = run_one(a.exe, a.out, name, sets, a.threads, a.report_only)
+        if s is None:
+            continue
         rows.append(row_of(name, cfg, s))
         write_tables(rows, a.out)  # after every run: a campaign cut short keeps its table
         el = time.time() - start
