@@ -21,6 +21,12 @@ bool trace_enabled() {
 // A healthy step with the frozen tangent divides the residual by 50–1000; one that divides it by less
 // than 2 has a stale tangent.
 constexpr double kStaleTangent = 0.5;
+// The geometric part of the tangent, −(g·d) per node, is floored at −kGeometricFloor × the smaller
+// material diagonal entry so that the diagonal stays positive far from equilibrium. At −0.5 a folded
+// shell whose true tangent is much softer converged at 0.87 per step (> 150 steps; GSMB Skalak C = 10,
+// Ca_s = 10, shear, γ̇t = 8); at −0.9 it needs ≤ 21 and ordinary solves are unchanged (quick scene:
+// same Newton counts, same D13).
+constexpr double kGeometricFloor = 0.9;
 }  // namespace
 
 GsmbWall::GsmbWall(const Points& X, const Triangles& tri, MembraneLaw law, GsmbOptions opt)
@@ -193,10 +199,9 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
     if (want_K) {
       const int dp = row_base_[i] + 2 * topo_.diag_pos[i];
       if (opt_.geometric_tangent) {
-        // exact second-order term of the exponential map; bounded below by half the smallest
-        // material diagonal entry so the diagonal stays positive far from equilibrium
+        // exact second-order term of the exponential map, floored (kGeometricFloor)
         const double kmin = std::min(Kv[dp], Kv[dp + row_len2_[i] + 1]);
-        const double c = std::max(-gi.dot(d_.row(i)), -0.5 * kmin);
+        const double c = std::max(-gi.dot(d_.row(i)), -kGeometricFloor * kmin);
         Kv[dp] += c;
         Kv[dp + row_len2_[i] + 1] += c;
       }

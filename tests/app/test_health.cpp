@@ -116,6 +116,21 @@ TEST(Health, RotationsAreSolvedPastASaddleInAFoldedShell) {
   clean(capped);
 }
 
+TEST(Health, RotationsConvergeWhereTheFoldedShellIsSoft) {
+  // Found by the stress campaign (2026-11-30): GSMB Skalak C = 10 sphere, Ca_s = 10, simple shear, 1280
+  // elements, past its folds. With the geometric term of the tangent floored at −½ of the material
+  // diagonal, Newton converged linearly at 0.87 per step near γ̇t = 8 and the run stopped with
+  // solver_failure at 8.03 even with 100 steps allowed; with the floor at −0.9 it needs ≤ 21.
+  const fs::path out = scratch("soft");
+  EXPECT_EQ(run("--set mesh.level=3 --set mesh.shape=sphere --set wall.law=skalak --set wall.skalak_c=10 "
+                "--set flow.ca_s=10 --set flow.type=simple_shear --set time.scheme=rkc --set time.t_end=8.2",
+                out),
+            0)
+      << slurp(out.string() + ".log");
+  EXPECT_EQ(summary(out).at("stop_reason"), "t_end");
+  clean(out);
+}
+
 TEST(Health, AFixedStepAboveTheEstimateWarnsAndStopsBeforeTheVolumeDriftsOrNaN) {
   const fs::path out = scratch("fixed-dt");
   const int code = run(kOverStepped + "--set time.t_end=2 --set time.dt=" + std::to_string(1.5 * over_stepped_estimate()), out);
