@@ -21,12 +21,17 @@ bool trace_enabled() {
 // A healthy step with the frozen tangent divides the residual by 50–1000; one that divides it by less
 // than 2 has a stale tangent.
 constexpr double kStaleTangent = 0.5;
-// The geometric part of the tangent, −(g·d) per node, is floored at −kGeometricFloor × the smaller
-// material diagonal entry so that the diagonal stays positive far from equilibrium. At −0.5 a folded
-// shell whose true tangent is much softer converged at 0.87 per step (> 150 steps; GSMB Skalak C = 10,
-// Ca_s = 10, shear, γ̇t = 8); at −0.9 it needs ≤ 21 and ordinary solves are unchanged (quick scene:
-// same Newton counts, same D13).
-constexpr double kGeometricFloor = 0.9;
+// The geometric part of the tangent, −(g·d) per node, is floored at −(a floor) × the smaller material
+// diagonal entry so that the diagonal stays positive far from equilibrium. A solve starts at
+// kGeometricFloor; if CG then meets negative curvature and cannot move (the tangent is indefinite), it
+// falls back to kSafeGeometricFloor for the rest of the solve. Measured in the stress campaign
+// (2026-11-30, 1280 elements, shells past their folds): at −0.5 alone, GSMB Skalak C = 10 at Ca_s = 10
+// in shear converged at 0.87 per step and failed after 100 steps at γ̇t = 8.03 (−0.9: ≤ 21 steps); at
+// −0.9 alone, GSMB NH at Ca_s = 3 in shear stalled (zero CG step) at γ̇t = 4.67 (−0.5: fine). Ordinary
+// solves are unchanged (quick scene: same Newton counts, same D13).
+constexpr double kGeometricFloor = 0.9, kSafeGeometricFloor = 0.5;
+// CG stalled: its relative residual is still above this after the solve.
+constexpr double kStalledCg = 0.5;
 }  // namespace
 
 GsmbWall::GsmbWall(const Points& X, const Triangles& tri, MembraneLaw law, GsmbOptions opt)
@@ -199,9 +204,9 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
     if (want_K) {
       const int dp = row_base_[i] + 2 * topo_.diag_pos[i];
       if (opt_.geometric_tangent) {
-        // exact second-order term of the exponential map, floored (kGeometricFloor)
+        // exact second-order term of the exponential map, floored (geometric_floor_)
         const double kmin = std::min(Kv[dp], Kv[dp + row_len2_[i] + 1]);
-        const double c = std::max(-gi.dot(d_.row(i)), -kGeometricFloor * kmin);
+        const double c = std::max(-gi.dot(d_.row(i)), -geometric_floor_ * kmin);
         Kv[dp] += c;
         Kv[dp + row_len2_[i] + 1] += c;
       }
@@ -255,6 +260,7 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
   // x-forces come from the pass at the converged directors. Results do not depend on this choice.
   const bool lazy_fx = last_newton_ > 0;
   double previous = std::numeric_limits<double>::infinity();
+  geometric_floor_ = kGeometricFloor;
   for (int it = 0;; ++it) {
     // tangent built at the first Newton step of each call and reused by the later steps of the
     // same call (they start within O(newton step^2) of the solution; the residual is exact)
@@ -279,7 +285,15 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     }
     Rth_ = -Rth_;
     double rr = 0;
-    const int cg = pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
+    int cg = pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
+    if (rr > kStalledCg && geometric_floor_ > kSafeGeometricFloor) {
+      // Negative curvature stopped CG: an indefinite tangent. Rebuild it with the safer floor.
+      st.cg_iterations += cg;
+      geometric_floor_ = kSafeGeometricFloor;
+      evaluate(x, nullptr, nullptr, true, want_fx);
+      Rth_ = -Rth_;
+      cg = pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
+    }
     st.cg_iterations += cg;
     if (trace_enabled()) std::fprintf(stderr, "  cg %d relres %.2e\n", cg, rr);
     double big = 0;

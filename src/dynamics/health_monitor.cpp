@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include "capsflow/core/dynamics/wall_factory.hpp"
+#include "capsflow/core/geometry/taylor_deformation.hpp"
 #include "capsflow/core/mesh/stats.hpp"
 
 namespace capsflow {
@@ -20,15 +21,17 @@ constexpr double kOscillationThreshold = 0.03, kOscillationReferenceFactor = 4.0
 // lower) or whose aspect ratio exceeds 8: the near-singular quadrature and the MITC3 element are
 // validated on facets far from this (docs/boundary-integral.md, docs/shell.md).
 constexpr double kMinAngleDeg = 10.0, kMaxAspect = 8.0;
-// No equilibrium: the largest principal stretch above 3 and still growing by 3 % per unit γ̇t.
-// The paper's steady cases stay below a stretch of 2; strain-softening NH in shear at high Ca
+// No equilibrium: the largest principal stretch above 3 and the capsule's length (the largest semi-axis
+// of its inertia ellipsoid, a global measure that local folds do not jolt) still growing by 3 % per
+// unit γ̇t. The paper's steady cases stay below a stretch of 2; strain-softening NH in shear at high Ca
 // elongates without bound (Barthès-Biesel, Diaz & Dhenin 2002).
 constexpr double kNoEquilibriumStretch = 3.0, kNoEquilibriumGrowth = 0.03;
-// ... unless the growth is slowing down towards an equilibrium in sight: the increments over the
-// last two half units, d1 then d2 < d1, extrapolated as a geometric series, end below this multiple
-// of the current stretch. Measured in the stress campaign (2026-11-30, a/b = 4, Ca_s = 10, planar
-// hyperbolic): Skalak C = 10 grows 2.62 → 3.00 after 1.98 → 2.62 (ratio 0.6, limit 3.6: an
-// equilibrium), NH 1.95 → 3.04 after 1.22 → 1.95 (accelerating: none).
+// ... unless the growth is slowing down towards an equilibrium in sight: the increments of the length
+// over the last two half units, d1 then d2 < d1, extrapolated as a geometric series, end below this
+// multiple of the current length. Measured in the stress campaign (2026-11-30, a/b = 4, Ca_s = 10,
+// planar hyperbolic): Skalak C = 10's largest stretch grows 2.62 → 3.00 after 1.98 → 2.62 (ratio 0.6:
+// an equilibrium), NH's 1.95 → 3.04 after 1.22 → 1.95 (accelerating: none). The largest stretch itself
+// jumps where a fold sharpens (NH sphere, Ca_s = 3, shear, 3.28 → 3.32 in 0.2 after 0.01 per 0.1).
 constexpr double kEquilibriumInSight = 2.0;
 // A membrane's grid-scale oscillation is buckling only where the wall is compressed: the facets
 // within this many reference edge lengths of the worst node are searched for a negative tension.
@@ -37,8 +40,8 @@ constexpr double kEquilibriumInSight = 2.0;
 constexpr double kCompressionProbeEdges = 3.0;
 
 std::string where(const Vec3& p) { return fmt::format("({:.2f}, {:.2f}, {:.2f})", p.x(), p.y(), p.z()); }
-// The largest stretch at time tau, linear between the stored samples (tau within their span).
-double stretch_at(const std::vector<std::pair<double, double>>& h, double tau) {
+// The capsule's length at time tau, linear between the stored samples (tau within their span).
+double length_at(const std::vector<std::pair<double, double>>& h, double tau) {
   for (size_t i = 1; i < h.size(); ++i)
     if (h[i].first >= tau) {
       const auto& [ta, la] = h[i - 1];
@@ -136,21 +139,23 @@ std::vector<HealthEvent> HealthMonitor::observe(double t, const Points& x, const
                          "beyond what the wall model describes)",
                          t, q.min_angle_deg, q.max_aspect_ratio, q.max_stretch_ratio)));
 
-  // No equilibrium: compare with the largest stretch one time unit ago.
-  stretch_history_.emplace_back(t, q.max_stretch);
-  while (stretch_history_.size() > 2 && stretch_history_[1].first <= t - 1.0) stretch_history_.erase(stretch_history_.begin());
-  const auto& [t0, l0] = stretch_history_.front();
-  bool growing = t - t0 >= 1.0 - 1e-9 && q.max_stretch > (1 + kNoEquilibriumGrowth * (t - t0)) * l0;
+  // No equilibrium: compare with the capsule's length one time unit ago.
+  const double length = inertia_ellipsoid(SurfaceMesh{x, ref_.triangles}).semi_axes.maxCoeff();
+  length_history_.emplace_back(t, length);
+  while (length_history_.size() > 2 && length_history_[1].first <= t - 1.0) length_history_.erase(length_history_.begin());
+  const auto& [t0, l0] = length_history_.front();
+  bool growing = t - t0 >= 1.0 - 1e-9 && length > (1 + kNoEquilibriumGrowth * (t - t0)) * l0;
   if (growing) {
-    const double d1 = stretch_at(stretch_history_, t - 0.5) - stretch_at(stretch_history_, t - 1.0);
-    const double d2 = q.max_stretch - stretch_at(stretch_history_, t - 0.5);
+    const double d1 = length_at(length_history_, t - 0.5) - length_at(length_history_, t - 1.0);
+    const double d2 = length - length_at(length_history_, t - 0.5);
     const double r = d2 / d1;
-    if (d1 > 0 && r < 1 && q.max_stretch + d2 * r / (1 - r) < kEquilibriumInSight * q.max_stretch) growing = false;
+    if (d1 > 0 && r < 1 && length + d2 * r / (1 - r) < kEquilibriumInSight * length) growing = false;
   }
   add(update(HealthCondition::NoEquilibrium, q.max_stretch > kNoEquilibriumStretch && growing, !growing, t,
-             fmt::format("the capsule keeps elongating at γ̇t = {:.3g}: largest stretch {:.2f}, up {:.1f} % since γ̇t = {:.3g} "
-                         "and not slowing down; no equilibrium shape is in sight (a strain-softening law at high Ca has none)",
-                         t, q.max_stretch, 100 * (q.max_stretch / l0 - 1), t0)));
+             fmt::format("the capsule keeps elongating at γ̇t = {:.3g}: largest stretch {:.2f}, length up {:.1f} % since γ̇t = "
+                         "{:.3g} and not slowing down; no equilibrium shape is in sight (a strain-softening law at high Ca "
+                         "has none)",
+                         t, q.max_stretch, 100 * (length / l0 - 1), t0)));
   return out;
 }
 
@@ -200,9 +205,9 @@ nlohmann::json HealthMonitor::state() const {
   nlohmann::json act = nlohmann::json::array();
   for (bool a : active_) act.push_back(a);
   nlohmann::json hist = nlohmann::json::array();
-  for (const auto& [t, l] : stretch_history_) hist.push_back({t, l});
+  for (const auto& [t, l] : length_history_) hist.push_back({t, l});
   j["active"] = act;
-  j["stretch_history"] = hist;
+  j["length_history"] = hist;
   return j;
 }
 
@@ -222,8 +227,10 @@ void HealthMonitor::set_state(const nlohmann::json& j) {
   for (const auto& e : j.at("warnings"))
     events_.push_back({*from_string<HealthCondition>(e.at("condition").get<std::string>()), e.at("t"), e.at("message")});
   for (size_t i = 0; i < active_.size() && i < j.at("active").size(); ++i) active_[i] = j.at("active")[i];
-  stretch_history_.clear();
-  for (const auto& p : j.at("stretch_history")) stretch_history_.emplace_back(p[0].get<double>(), p[1].get<double>());
+  length_history_.clear();
+  // Checkpoints before 2026-12-01 kept the largest stretch instead: the history then starts afresh.
+  if (j.contains("length_history"))
+    for (const auto& p : j.at("length_history")) length_history_.emplace_back(p[0].get<double>(), p[1].get<double>());
 }
 
 }  // namespace capsflow

@@ -102,8 +102,9 @@ TEST(HealthMonitor, DegenerateFacetsAndEndlessElongationAreNamed) {
 
 TEST(HealthMonitor, AStretchSlowingDownTowardsAnEquilibriumIsNotNoEquilibrium) {
   // Largest stretch every 0.2 time units as measured in the stress campaign (a/b = 4, Ca_s = 10, planar
-  // hyperbolic, 1280 elements; docs/health-monitors.md): Skalak C = 10 settles near 3.1–3.6, NH
-  // accelerates. Both pass 3 while growing > 3 % per unit; only NH has no equilibrium in sight.
+  // hyperbolic, 1280 elements; docs/health-monitors.md), imposed as a stretch of the sphere along x1 (so
+  // the length follows it): Skalak C = 10 settles near 3.1–3.6, NH accelerates. Both pass 3 while
+  // growing > 3 % per unit; only NH has no equilibrium in sight.
   const Scene s = scene_with({"mesh.level=2", "mesh.shape=sphere", "wall.model=membrane", "wall.law=nh"});
   const SurfaceMesh ref = make_reference_mesh(s.mesh);
   auto raised = [&](const std::vector<double>& stretch) {

@@ -73,7 +73,7 @@ class HealthMonitor {
   double oscillation_threshold_, min_angle_threshold_, aspect_threshold_;
   HealthSample last_;
   std::array<bool, kHealthConditionNames.size()> active_{};
-  std::vector<std::pair<double, double>> stretch_history_;  // (t, largest stretch)
+  std::vector<std::pair<double, double>> length_history_;  // (t, largest semi-axis of the inertia ellipsoid)
   // Worst over the run.
   double worst_angle_ = 0, worst_oscillation_ = 0, worst_compressed_fraction_ = 0, worst_tension_ = 0;
   double worst_min_angle_ = 60, worst_aspect_ = 1, worst_stretch_ratio_ = 1, worst_stretch_ = 1;
