@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/core.h>
-#include <vector>
 
 namespace capsflow {
 
@@ -41,7 +40,8 @@ std::string InstabilityWatch::observe_corrected() const {
 std::string InstabilityWatch::observe_uncorrected() const {
   // rates[i] = |d(V/V0)/dt| over step i + 1; the last kSteps + 1 form the window, the kLevelSteps
   // before it the running level.
-  std::vector<double> rates;
+  std::vector<double>& rates = rates_;
+  rates.clear();
   for (size_t i = 1; i < drifts_.size(); ++i) rates.push_back(std::abs(drifts_[i] - drifts_[i - 1]) / steps_[i]);
   const size_t first = rates.size() - (kSteps + 1);
   const auto [shortest, longest] = std::minmax_element(steps_.begin() + static_cast<long>(first) + 1, steps_.end());
@@ -49,7 +49,8 @@ std::string InstabilityWatch::observe_uncorrected() const {
   if (!(std::abs(drifts_.back() - drifts_[first]) > kFloor)) return {};
   for (size_t i = first + 1; i < rates.size(); ++i)
     if (!(rates[i] >= kFactorPerStep * rates[i - 1])) return {};
-  std::vector<double> level(rates.begin(), rates.begin() + static_cast<long>(first));
+  std::vector<double>& level = level_;
+  level.assign(rates.begin(), rates.begin() + static_cast<long>(first));
   std::nth_element(level.begin(), level.begin() + static_cast<long>(level.size() / 2), level.end());
   const double median = level[level.size() / 2];
   if (!(rates.back() > kAboveLevel * median)) return {};

@@ -105,8 +105,8 @@ class GsmbWall : public Wall {
   std::vector<int> row_base_, row_len2_;  // K value index of node-row i: 4*adj_ptr[i], 2*deg(i)
   Eigen::VectorXd Rth_, dw_, kdiag_;
   BlockPcg pcg_{2};
-  int last_newton_ = 0;
-  double geometric_floor_ = 0.9;  // floor of the geometric tangent term in this solve (gsmb_wall.cpp)  // Newton corrections of the previous call (work-saving heuristic only)
+  int last_newton_ = 0;  // Newton corrections of the previous call (work-saving heuristic only)
+  double geometric_floor_ = 0;  // floor of the geometric tangent term, set at the start of each solve (gsmb_wall.cpp)
   mutable std::vector<double> partial_;
 };
 

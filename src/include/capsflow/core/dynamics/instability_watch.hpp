@@ -13,6 +13,7 @@
 //    not judged; an unstable RKC step is caught by its error test instead.
 #include <deque>
 #include <string>
+#include <vector>
 
 namespace capsflow {
 
@@ -42,6 +43,7 @@ class InstabilityWatch {
   Volume volume_;
   std::deque<double> drifts_;  // V/V0 − 1 after each of the last steps (oldest first)
   std::deque<double> steps_;   // the matching step lengths
+  mutable std::vector<double> rates_, level_;  // scratch of observe_uncorrected (no allocation per step)
 };
 
 }  // namespace capsflow
