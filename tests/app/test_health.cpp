@@ -131,6 +131,22 @@ TEST(Health, RotationsConvergeWhereTheFoldedShellIsSoft) {
   clean(out);
 }
 
+TEST(Health, ARotationSolveThatFailsAtTheStiffFloorIsRetriedAtTheSafeOne) {
+  // Found by the clean re-run of the stress campaign (2026-12-01): GSMB NH sphere, α = 3 %, Ca_s = 3,
+  // planar hyperbolic flow, 1280 elements. With the −0.9 floor (falling back to −0.5 only when CG
+  // stalls) Newton failed after 100 steps at γ̇t = 1.0167 (residual 6.4e-6 rad), from a fresh start
+  // too, and the run stopped with solver_failure; started again at −0.5 throughout it converges.
+  const fs::path out = scratch("stiff-floor");
+  EXPECT_EQ(run("--set mesh.level=3 --set mesh.shape=sphere --set wall.model=gsmb --set wall.thickness=0.03 "
+                "--set wall.law=nh --set flow.ca_s=3 --set flow.type=planar_hyperbolic --set time.scheme=rkc "
+                "--set time.t_end=1.1",
+                out),
+            0)
+      << slurp(out.string() + ".log");
+  EXPECT_EQ(summary(out).at("stop_reason"), "t_end");
+  clean(out);
+}
+
 TEST(Health, AFixedStepAboveTheEstimateWarnsAndStopsBeforeTheVolumeDriftsOrNaN) {
   const fs::path out = scratch("fixed-dt");
   const int code = run(kOverStepped + "--set time.t_end=2 --set time.dt=" + std::to_string(1.5 * over_stepped_estimate()), out);

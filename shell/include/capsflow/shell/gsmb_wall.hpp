@@ -96,7 +96,11 @@ class GsmbWall : public Wall {
   Topology topo_;
   std::vector<ElementRef> ref_;
   void nodal_normals(const Points& x, Points& n) const;
+  // Newton iterations on the rotations from the current triads, the geometric tangent term floored at
+  // −floor (falling back to the safer floor if CG stalls); adds to st, clears st.converged on failure.
+  void newton(const Points& x, double floor, WallStats& st);
   Points D_, d_, t1_, t2_, n_prev_, n_cur_;
+  Points d_start_, t1_start_, t2_start_;  // predicted triads at the start of a solve (retry from them)
   Points fx_, g_;
   struct NodeRec { double v[12]; };  // x, d, -t2, t1 of one node (element-pass input)
   std::vector<NodeRec> nodes_;
