@@ -255,9 +255,6 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     }
     n_prev_ = n_cur_;
   }
-  // The membrane force does not depend on the rotations: when the previous call needed a Newton
-  // correction (the usual RK stage), the first pass skips it and computes only R_theta and K; the
-  // x-forces come from the pass at the converged directors. Results do not depend on this choice.
   d_start_ = d_;
   t1_start_ = t1_;
   t2_start_ = t2_;
@@ -280,6 +277,9 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
 
 void GsmbWall::newton(const Points& x, double floor, WallStats& st) {
   const int n2 = 2 * topo_.n_nodes;
+  // The membrane force does not depend on the rotations: when the previous call needed a Newton
+  // correction (the usual RK stage), the first pass skips it and computes only R_theta and K; the
+  // x-forces come from the pass at the converged directors. Results do not depend on this choice.
   const bool lazy_fx = last_newton_ > 0;
   double previous = std::numeric_limits<double>::infinity();
   geometric_floor_ = floor;
