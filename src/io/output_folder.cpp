@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "capsflow/core/io/folder_lock.hpp"
+
 namespace capsflow::io {
 namespace fs = std::filesystem;
 
@@ -67,7 +69,7 @@ PreparedFolder prepare_output_folder(const fs::path& dir, bool overwrite) {
     if (!fs::is_directory(st)) fail("output path " + quoted(dir) + " exists and is not a folder");
     std::vector<fs::directory_entry> entries;
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-      entries.push_back(*it);
+      if (it->path().filename() != kFolderLockFile) entries.push_back(*it);  // the lock of this very run
     }
     if (ec) fail("cannot list output folder " + quoted(dir) + ": " + ec.message());
     if (!entries.empty() && !overwrite) {

@@ -1,0 +1,69 @@
+#pragma once
+// One writer per output folder: an exclusive lock on `<dir>/.capsflow.lock`, taken before any
+// overwrite, identity or restart decision and held for the life of the run (or study).
+//
+// The lock is flock(2) on the lock file, so the kernel releases it when the holder dies, however it
+// dies; the file's content only names the holder (pid, host, start time, command) for the message a
+// refused writer prints. A lock file that we can lock but that still names a holder was left by a
+// process that died without releasing it (kill -9, power loss): it is taken over and reported.
+// A holder that ends normally removes the file. Readers (ParaView, `capsflow info`, Python's
+// read_run) never take the lock and are never blocked.
+//
+// On NFS, Linux emulates flock with whole-file POSIX locks held by the server, so two hosts exclude
+// each other as long as the mount has working locking (not `nolock` / `local_lock=all`, under which
+// each client only sees its own locks); a client that dies loses its lock when the server's lease
+// expires (NFSv4: ~90 s). docs/scene-and-output.md §1.1.
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace capsflow::io {
+
+inline constexpr const char* kFolderLockFile = ".capsflow.lock";
+
+// What a lock file says about its holder.
+struct LockHolder {
+  long pid = 0;
+  std::string host;
+  std::string started_utc;  // ISO 8601
+  std::string command;      // "run", "study", ...
+  std::string describe() const;  // "pid 123 on host h (capsflow run, started 2026-12-01T18:20:31Z)"
+};
+
+// Another process holds the lock: what() is the one-line message naming the holder.
+class FolderBusy : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class FolderLock {
+ public:
+  // Creates `dir` (with parents) when missing and takes its lock. Throws FolderBusy when another
+  // process holds it, std::runtime_error when the lock file cannot be created. `command` names the
+  // holder's job in the message another writer gets ("run", "study").
+  static FolderLock acquire(const std::filesystem::path& dir, const std::string& command);
+
+  FolderLock() = default;
+  FolderLock(FolderLock&& o) noexcept;
+  FolderLock& operator=(FolderLock&& o) noexcept;
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+  ~FolderLock();  // release(): removes the lock file, then unlocks
+
+  void release();
+  bool held() const { return fd_ >= 0; }
+  const std::filesystem::path& path() const { return path_; }
+  // The holder named by a lock file left behind by a process that died holding it (taken over).
+  const std::optional<LockHolder>& taken_over() const { return stale_; }
+
+ private:
+  int fd_ = -1;
+  std::filesystem::path path_;
+  std::optional<LockHolder> stale_;
+};
+
+// The holder a lock file names, if it names one (empty or unreadable: nullopt). For messages only.
+std::optional<LockHolder> read_lock_holder(const std::filesystem::path& lock_file);
+
+}  // namespace capsflow::io
