@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <climits>
+#include <csignal>
 #include <cstdlib>
 #include <exception>
 #include <new>
@@ -38,6 +39,9 @@ constexpr int kMaxThreads = 4096;
 
 int main(int argc, char** argv) {
   prefer_passive_openmp_wait(argv);
+  // A file-size limit (ulimit -f) would kill the run with SIGXFSZ mid-write; ignored, the write
+  // fails with EFBIG and takes the full-disk path: exit 1, the last good checkpoint kept.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App cli{"capsflow — an elastic capsule (MITC3 GSMB shell) freely suspended in Stokes flow"};
   cli.require_subcommand(0, 1);
   bool show_version = false;

@@ -1,5 +1,7 @@
 #include "capsflow/core/mesh/mesh_io.hpp"
 
+#include "capsflow/core/io/input_file.hpp"
+
 #include <fmt/core.h>
 
 #include <cerrno>
@@ -341,6 +343,7 @@ SurfaceMesh read_ply(const std::string& path) {
 }
 
 SurfaceMesh read_mesh(const std::string& path) {
+  if (const std::string problem = io::input_file_problem(path, io::kMaxMeshBytes); !problem.empty()) fail(path, problem);
   const std::string ext = lower_ext(path);
   try {
     if (ext == "off") return read_off(path);

@@ -1,5 +1,7 @@
 #include "capsflow/core/mesh/topology.hpp"
 
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -153,6 +155,17 @@ bool validate_closed_surface(SurfaceMesh& mesh) {
         throw MeshError("non-manifold vertex " + std::to_string(v) + ": its " + std::to_string(valence[v]) +
                         " elements form more than one fan (first offending " + tri_str(mesh, e0) + ")");
     }
+
+  // Coordinates so large or small that areas and volumes over- or underflow (a mesh written in
+  // the wrong units by 1e±300) would be reported below as degenerate elements: name the scale.
+  {
+    const double extent = (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).maxCoeff();
+    if (!(extent >= 1e-100 && extent <= 1e100))
+      throw MeshError(fmt::format("the mesh spans {:.3g} in its largest coordinate direction, outside [1e-100, 1e100] where "
+                                  "areas and volumes are representable in double precision; rescale the mesh (capsflow "
+                                  "scales it to unit equivalent radius itself)",
+                                  extent));
+  }
 
   // Degenerate (zero-area) elements.
   const Eigen::VectorXd area = element_areas(mesh);

@@ -1,5 +1,7 @@
 #include "capsflow/core/scene/scene.hpp"
 
+#include "capsflow/core/io/input_file.hpp"
+
 #include <fmt/core.h>
 
 #include <fcntl.h>
@@ -394,6 +396,7 @@ std::string read_scene_file(const std::string& path) {
   if (st.type() == fs::file_type::not_found) throw SceneError(path + ": scene file not found");
   if (ec) throw SceneError(path + ": cannot access scene file: " + ec.message());
   if (fs::is_directory(st)) throw SceneError(path + ": is a folder, not a scene file");
+  if (!fs::is_regular_file(st)) throw SceneError(path + ": " + io::input_file_problem(path, io::kMaxSceneBytes));  // open() of a FIFO blocks
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw SceneError(path + ": cannot read scene file: " + std::strerror(errno));
   std::string text;
@@ -408,7 +411,7 @@ std::string read_scene_file(const std::string& path) {
     }
     if (n == 0) break;
     text.append(buf, static_cast<std::size_t>(n));
-    if (text.size() > (64u << 20)) {
+    if (text.size() > io::kMaxSceneBytes) {
       ::close(fd);
       throw SceneError(path + ": is larger than 64 MB: not a scene file");
     }

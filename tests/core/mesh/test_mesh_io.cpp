@@ -7,6 +7,9 @@
 #include <utility>
 #include <vector>
 
+#include <sys/stat.h>
+
+#include "capsflow/core/io/input_file.hpp"
 #include "capsflow/core/mesh/generation.hpp"
 #include "capsflow/core/mesh/mesh_io.hpp"
 
@@ -163,4 +166,24 @@ TEST(MeshIO, HugeCountsAreAClearErrorNotBadAlloc) {
   EXPECT_NE(off.find("declares 2000000000 vertices and 8 faces, more than a file of"), std::string::npos) << off;
   const std::string over = read_error(dir.file("over.off", "OFF\n99999999999 8 0\n"));
   EXPECT_NE(over.find("integers in [0, 2147483647]"), std::string::npos) << over;
+}
+
+// Only regular files are read: a folder, a FIFO or a device would block or read for ever (issue 27:
+// /dev/zero named through a .off link grew memory by 5 GB in 7 s).
+TEST(MeshIO, OnlyRegularFilesOfBoundedSizeAreRead) {
+  TempDir d;
+  const fs::path folder = d.path / "looks_like.off";
+  fs::create_directories(folder);
+  EXPECT_NE(read_error(folder.string()).find("is a folder, not a file"), std::string::npos) << read_error(folder.string());
+  const std::string fifo = (d.path / "pipe.off").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(read_error(fifo).find("is a FIFO, not a regular file"), std::string::npos) << read_error(fifo);
+  const fs::path zero = d.path / "zero.off";
+  fs::create_symlink("/dev/zero", zero);
+  EXPECT_NE(read_error(zero.string()).find("is a character device"), std::string::npos) << read_error(zero.string());
+  // A sparse file just over the cap: refused by its size, before a byte is read.
+  const std::string big = d.file("big.off");
+  { std::ofstream(big) << "OFF\n"; }
+  fs::resize_file(big, io::kMaxMeshBytes + 1);
+  EXPECT_NE(read_error(big).find("larger than the 1024 MB"), std::string::npos) << read_error(big);
 }

@@ -160,3 +160,18 @@ TEST(MeshTopology, TriangleSoupSuggestsMergingDuplicateVertices) {
   SurfaceMesh open{m.vertices, m.triangles.topRows(7)};
   EXPECT_EQ(error_of(open).find("merge"), std::string::npos) << error_of(open);
 }
+
+// A mesh in absurd units: areas of a sphere scaled by 1e300 overflow to inf and by 1e-300 underflow
+// to 0, which used to be reported as "zero area (degenerate)" on a perfectly shaped mesh.
+TEST(MeshTopology, CoordinatesOutsideTheRepresentableScaleAreNamedAsSuch) {
+  for (double scale : {1e300, 1e-300}) {
+    SurfaceMesh m = octa();
+    m.vertices *= scale;
+    const std::string err = error_of(m);
+    EXPECT_NE(err.find("rescale the mesh"), std::string::npos) << scale << ": " << err;
+    EXPECT_EQ(err.find("zero area"), std::string::npos) << err;
+  }
+  SurfaceMesh fine = octa();
+  fine.vertices *= 1e-6;  // micrometres: a legitimate unit, accepted
+  EXPECT_EQ(error_of(fine), "");
+}

@@ -1,6 +1,7 @@
 // Scene parsing: defaults, shipped scenes, overrides, and one test per error class
 // (syntax, unknown key/section, wrong type, out of range, inconsistent keys).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <unistd.h>
 
@@ -186,6 +187,15 @@ TEST(SceneFiles, MissingFolderUnreadableAndBinaryFilesAreTold) {
     EXPECT_NE(e.find("cannot read scene file: "), std::string::npos) << e;
     EXPECT_EQ(e.find("not found"), std::string::npos) << e;
   }
+}
+
+// A FIFO given as a scene blocked in open() for ever (issue 27); a device read for ever.
+TEST(SceneFiles, AFifoOrADeviceIsRefusedWithoutBlocking) {
+  SceneDir d;
+  const std::string fifo = (d.path / "scene.toml").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(load_error(fifo).find("is a FIFO, not a regular file"), std::string::npos) << load_error(fifo);
+  EXPECT_NE(load_error("/dev/zero").find("is a character device, not a regular file"), std::string::npos);
 }
 
 TEST(SceneFiles, MeshFileIsRelativeToTheScenesFolder) {
