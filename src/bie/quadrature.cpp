@@ -60,6 +60,28 @@ void flat_singular(const Vec3& F1, const Vec3& F2, Mat3& K0, Mat3& K1) {
        (blen * blen);
 }
 
+// The Duffy lines of a singular element written about its vertex x0 (docs/boundary-integral.md
+// §4.1.2): calls f(v, wv) for the points of `rule_v` on each side of the foot v* of the
+// perpendicular from x0 to the opposite edge, after v = v* ± (d/|x2 − x1|) sinh s (flattens the
+// peak of 1/|e(v)| at obtuse angles); wv includes the substitution's Jacobian.
+template <class F>
+void visit_duffy_lines(const QuadraticTriangle& T, const GaussLegendre& rule_v, F&& f) {
+  const Vec3& a = T.F1;
+  const Vec3 b = T.F2 - T.F1;
+  const double bb = b.squaredNorm(), blen = std::sqrt(bb);
+  const double vstar = std::clamp(-a.dot(b) / bb, 0.0, 1.0);
+  const double d = (a + vstar * b).norm();
+  for (const double sign : {1.0, -1.0}) {
+    const double length = sign > 0 ? 1.0 - vstar : vstar;
+    if (length <= 0) continue;
+    const double smax = std::asinh(blen * length / d);
+    for (size_t k = 0; k < rule_v.x.size(); ++k) {
+      const double ex = std::exp(rule_v.x[k] * smax), inv = 1.0 / ex;  // one exp for sinh and cosh
+      f(vstar + sign * (d / blen) * 0.5 * (ex - inv), rule_v.w[k] * smax * (d / blen) * 0.5 * (ex + inv));
+    }
+  }
+}
+
 // The curvature correction of a singular element: calls f(w, weight, λ) for the Duffy points of
 // the quadratic triangle and, with the opposite weight, for those of its flat facet at the same
 // v; a point contributes weight · G(w) · φ(λ). See singular_element_integral in the header.
@@ -68,36 +90,24 @@ constexpr size_t kMaxRadialPoints = 16;
 template <class F>
 void visit_curvature_correction(const QuadraticTriangle& T, const GaussLegendre& rule_v, const GaussLegendre& rule_u,
                                 F&& f) {
-  const Vec3& a = T.F1;
   const Vec3 b = T.F2 - T.F1, bc = T.B - T.A;
-  const double bb = b.squaredNorm(), blen = std::sqrt(bb);
-  const double vstar = std::clamp(-a.dot(b) / bb, 0.0, 1.0);
-  const double d = (a + vstar * b).norm();
   const size_t nu = rule_u.x.size();
   if (nu > kMaxRadialPoints) throw std::invalid_argument("curvature correction: at most 16 Gauss points in u");
-  for (const double sign : {1.0, -1.0}) {
-    const double length = sign > 0 ? 1.0 - vstar : vstar;
-    if (length <= 0) continue;
-    const double smax = std::asinh(blen * length / d);
-    for (size_t k = 0; k < rule_v.x.size(); ++k) {
-      const double ex = std::exp(rule_v.x[k] * smax), inv = 1.0 / ex;  // one exp for sinh and cosh
-      const double v = vstar + sign * (d / blen) * 0.5 * (ex - inv);
-      const double wv = rule_v.w[k] * smax * (d / blen) * 0.5 * (ex + inv);
-      const Vec3 a1 = T.A + v * bc, a1_flat = a + v * b;
-      const Vec3 a2 = (1 - v) * (1 - v) * T.C + v * v * T.D + v * (1 - v) * T.E;
-      // Jacobians of all u-points first: independent square roots pipeline instead of stalling
-      // each point (the loop is latency-bound otherwise).
-      double jac[kMaxRadialPoints];
-      for (size_t m = 0; m < nu; ++m) jac[m] = T.jacobian_squared(rule_u.x[m] * (1 - v), rule_u.x[m] * v);
-      for (size_t m = 0; m < nu; ++m) jac[m] = std::sqrt(jac[m]);
-      for (size_t m = 0; m < nu; ++m) {
-        const double u = rule_u.x[m];
-        f(a1 + u * a2, wv * rule_u.w[m] * jac[m], Vec3(1 - u, u * (1 - v), u * v));
-      }
-      // The flat integrand G(a1_flat) J0 φ(λ) is linear in u: its u-integral is the value at u = ½.
-      f(a1_flat, -wv * T.J0, Vec3(0.5, 0.5 * (1 - v), 0.5 * v));
+  visit_duffy_lines(T, rule_v, [&](double v, double wv) {
+    const Vec3 a1 = T.A + v * bc, a1_flat = T.F1 + v * b;
+    const Vec3 a2 = (1 - v) * (1 - v) * T.C + v * v * T.D + v * (1 - v) * T.E;
+    // Jacobians of all u-points first: independent square roots pipeline instead of stalling
+    // each point (the loop is latency-bound otherwise).
+    double jac[kMaxRadialPoints];
+    for (size_t m = 0; m < nu; ++m) jac[m] = T.jacobian_squared(rule_u.x[m] * (1 - v), rule_u.x[m] * v);
+    for (size_t m = 0; m < nu; ++m) jac[m] = std::sqrt(jac[m]);
+    for (size_t m = 0; m < nu; ++m) {
+      const double u = rule_u.x[m];
+      f(a1 + u * a2, wv * rule_u.w[m] * jac[m], Vec3(1 - u, u * (1 - v), u * v));
     }
-  }
+    // The flat integrand G(a1_flat) J0 φ(λ) is linear in u: its u-integral is the value at u = ½.
+    f(a1_flat, -wv * T.J0, Vec3(0.5, 0.5 * (1 - v), 0.5 * v));
+  });
 }
 
 }  // namespace
@@ -130,6 +140,26 @@ Vec3 singular_element_apply(StokesletBatch& batch, const QuadraticTriangle& T, c
       batch.push(w, weight * (lam[0] * q0 + lam[1] * q1 + lam[2] * q2));
     });
   return (0.5 * T.J0) * (K0 * (q0 + q1) + K1 * (q2 - q1));
+}
+
+std::array<Mat3, 3> singular_element_double_layer(const QuadraticTriangle& T, const GaussLegendre& rule_v,
+                                                  const GaussLegendre& rule_u) {
+  std::array<Mat3, 3> out{Mat3::Zero(), Mat3::Zero(), Mat3::Zero()};
+  if (!T.curved) return out;  // r = x0 − y lies in the facet's plane: T(r)·n = 0 on the whole facet
+  const Vec3 bc = T.B - T.A;
+  visit_duffy_lines(T, rule_v, [&](double v, double wv) {
+    const Vec3 a1 = T.A + v * bc;
+    const Vec3 a2 = (1 - v) * (1 - v) * T.C + v * v * T.D + v * (1 - v) * T.E;
+    for (size_t m = 0; m < rule_u.x.size(); ++m) {
+      const double u = rule_u.x[m];
+      const Vec3 w = a1 + u * a2, N = T.area_normal(u * (1 - v), u * v);
+      // T(−u w)·N u = 6 (w·N) w wᵀ/(u |w|⁵): w·N = O(u) because a1 lies in the tangent plane at x0.
+      const double winv = 1.0 / w.norm(), winv2 = winv * winv;
+      const Mat3 K = (6.0 * wv * rule_u.w[m] * w.dot(N) / u * winv2 * winv2 * winv) * (w * w.transpose());
+      out[0] += (1 - u) * K, out[1] += (u * (1 - v)) * K, out[2] += (u * v) * K;
+    }
+  });
+  return out;
 }
 
 namespace {

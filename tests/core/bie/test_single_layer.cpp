@@ -12,30 +12,13 @@
 #include "capsflow/core/bie/off_surface.hpp"
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/fmm/direct_sum_mixed.hpp"
+#include "support/gauss_kronrod.hpp"
 
 using namespace capsflow;
+using capsflow::testing::gauss_kronrod;
+using capsflow::testing::polar_parameter_integral;
 
 namespace {
-
-// Adaptive Gauss–Kronrod (7–15) of a matrix-valued function on [a, b] to absolute tolerance.
-using MatFn = std::function<Eigen::Matrix<double, 3, 9>(double)>;
-Eigen::Matrix<double, 3, 9> gauss_kronrod(const MatFn& f, double a, double b, double tol, int depth = 0) {
-  static const double xk[8] = {0.991455371120812639, 0.949107912342758525, 0.864864423359769073, 0.741531185599394440,
-                               0.586087235467691130, 0.405845151377397167, 0.207784955007898468, 0.0};
-  static const double wk[8] = {0.022935322010529225, 0.063092092629978553, 0.104790010322250184, 0.140653259715525919,
-                               0.169004726639267903, 0.190350578064785410, 0.204432940075298892, 0.209482141084727828};
-  static const double wg[4] = {0.129484966168869693, 0.279705391489276668, 0.381830050505118945, 0.417959183673469388};
-  const double c = 0.5 * (a + b), h = 0.5 * (b - a);
-  Eigen::Matrix<double, 3, 9> k = wk[7] * f(c), g = wg[3] * f(c);
-  for (int i = 0; i < 7; ++i) {
-    const auto fp = f(c + h * xk[i]), fm = f(c - h * xk[i]);
-    k += wk[i] * (fp + fm);
-    if (i % 2 == 1) g += wg[i / 2] * (fp + fm);
-  }
-  k *= h, g *= h;
-  if ((k - g).cwiseAbs().maxCoeff() < tol || depth > 30) return k;
-  return gauss_kronrod(f, a, c, tol / 2, depth + 1) + gauss_kronrod(f, c, b, tol / 2, depth + 1);
-}
 
 // ∫_e G(x0 − y) φ_k dS in polar coordinates (ρ, φ) about x0 in the element plane: ρ dρ cancels
 // 1/ρ, the ρ-integral (polynomial) is done by 8-point Gauss, the angle adaptively.
@@ -73,22 +56,8 @@ std::array<Mat3, 3> polar_reference(const Vec3& x0, const Vec3& x1, const Vec3& 
 // ρ-integral is done by 24-point Gauss, the angle adaptively. Independent of the Duffy map and of
 // the closed-form flat part used by the production code.
 std::array<Mat3, 3> polar_reference_curved(const QuadraticTriangle& T) {
-  const GaussLegendre gl(24);
-  auto f = [&](double phi) {
-    const double c = std::cos(phi), s = std::sin(phi), rmax = 1.0 / (c + s);
-    Eigen::Matrix<double, 3, 9> out = Eigen::Matrix<double, 3, 9>::Zero();
-    for (size_t q = 0; q < gl.x.size(); ++q) {
-      const double rho = gl.x[q] * rmax, w = gl.w[q] * rmax;
-      const double xi = rho * c, eta = rho * s;
-      const Vec3 dir = T.offset(xi, eta) / rho;
-      const Mat3 K = w * T.jacobian(xi, eta) * stokeslet_matrix(dir);
-      const double phik[3] = {1 - xi - eta, xi, eta};
-      for (int k = 0; k < 3; ++k) out.block<3, 3>(0, 3 * k) += phik[k] * K;
-    }
-    return out;
-  };
-  const auto I = gauss_kronrod(f, 0.0, M_PI / 2, 1e-14);
-  return {I.block<3, 3>(0, 0), I.block<3, 3>(0, 3), I.block<3, 3>(0, 6)};
+  return polar_parameter_integral(
+      [&](double xi, double eta, double rho) { return Mat3(T.jacobian(xi, eta) * stokeslet_matrix(T.offset(xi, eta) / rho)); });
 }
 
 SurfaceMesh unit_sphere(int level) { return make_sphere_mesh(BaseSolid::Icosahedron, level); }

@@ -61,9 +61,11 @@ struct QuadraticTriangle {
   Vec3 position(double xi, double eta) const { return x0 + offset(xi, eta); }
   // |∂y/∂ξ × ∂y/∂η|: the area element, dS = J dξ dη (J = 2·area for a flat facet).
   double jacobian(double xi, double eta) const { return curved ? std::sqrt(jacobian_squared(xi, eta)) : J0; }
-  double jacobian_squared(double xi, double eta) const {
+  double jacobian_squared(double xi, double eta) const { return area_normal(xi, eta).squaredNorm(); }
+  // ∂y/∂ξ × ∂y/∂η: the outward normal times the area element J (counter-clockwise vertices).
+  Vec3 area_normal(double xi, double eta) const {
     const Vec3 dxi = A + 2 * xi * C + eta * E, deta = B + 2 * eta * D + xi * E;
-    return dxi.cross(deta).squaredNorm();
+    return dxi.cross(deta);
   }
 };
 

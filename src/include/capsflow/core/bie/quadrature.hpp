@@ -1,6 +1,6 @@
 #pragma once
 // Quadrature rules on P1 triangles — flat facets or their quadratic lift (curved_triangle.hpp) —
-// for the single-layer Stokeslet (docs/boundary-integral.md).
+// for the single-layer Stokeslet and the double-layer stresslet (docs/boundary-integral.md).
 // Conventions: fmm::Stokeslet, G(r) = I/|r| + r rᵀ/|r|³ with r = x − y; the scale 1/(8πμ) is NOT
 // included here (the caller applies fmm::Stokeslet::scale()).
 #include <array>
@@ -42,6 +42,14 @@ std::array<Mat3, 3> singular_element_integral(const QuadraticTriangle& T, const 
                                               const GaussLegendre& rule_u);
 // Flat-facet form (closed form, no quadrature): the triangle (x0, x1, x2) with x0 the target.
 std::array<Mat3, 3> singular_element_integral(const Vec3& x0, const Vec3& x1, const Vec3& x2);
+
+// The double layer of a singular element (docs/boundary-integral.md §4.7.2): the matrices
+// M_k = ∫_e T(x0 − y)·n(y) φ_k(y) dS_y, (M_k)_ij = ∫ T_ijl n_l φ_k dS, with T_ijl(r) = −6 r_i r_j r_l/|r|⁵
+// (unscaled), over a quadratic triangle written about its vertex x0. Zero on a flat facet (r lies
+// in its plane); on a curved element T(x0 − y)·n dS is O(1/|r|) and the same Duffy points as
+// above integrate it (with n dS = ∂y/∂ξ × ∂y/∂η dξ dη, no flat part to subtract).
+std::array<Mat3, 3> singular_element_double_layer(const QuadraticTriangle& T, const GaussLegendre& rule_v,
+                                                  const GaussLegendre& rule_u);
 
 // ∫_e G(p − y) φ_k(y) dS_y (k = 0, 1, 2) for a target p off the element (near-singular but not
 // singular): the element is split 4^depth times in (ξ, η) and Dunavant's degree-5 7-point rule
