@@ -37,6 +37,11 @@ struct StudyCommandOptions {
   bool verbose = false;
   int threads = 0;
   std::string command_line;
+  std::string scheduler = "local";
+  int jobs = 1;
+  std::vector<std::string> slurm_options;
+  std::string analyse;  // --analyse DIR
+  std::string variant;  // --variant NAME (the jobs' entry point)
 };
 int study_command(const StudyCommandOptions& opt);
 

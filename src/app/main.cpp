@@ -2,6 +2,8 @@
 //   capsflow run [SCENE.toml] [--set key=value]... [-o DIR] [--overwrite] [--restart CKPT] [--threads N]
 //   capsflow info [SCENE.toml] [--set key=value]...
 //   capsflow study [SCENE.toml] [-o DIR] [--levels 3,4,5] [--vary key=v1,v2]... [--set key=value]... [--overwrite] [--threads N]
+//                  [--scheduler local|slurm] [--jobs K] [--slurm-opt OPT]...
+//   capsflow study --analyse DIR
 //   capsflow --version
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -81,7 +83,16 @@ int main(int argc, char** argv) {
   study_cmd->add_option("-o,--output", study.output_dir, "study folder (default: capsflow-study)");
   study_cmd->add_flag("--overwrite", study.overwrite, "run every variant anew and replace the study files");
   study_cmd->add_flag("--verbose", study.verbose, "show each run's own log (status lines, timing table)");
-  study_cmd->add_option("--threads", study.threads, "OpenMP threads (default 0: all cores)")->check(CLI::Range(0, kMaxThreads));
+  study_cmd->add_option("--threads", study.threads, "OpenMP threads (default 0: all cores; with --jobs K: divided among them; "
+                                                   "with Slurm: sized per variant)")->check(CLI::Range(0, kMaxThreads));
+  study_cmd->add_option("--scheduler", study.scheduler, "where the variants run: local (this machine, the default) or slurm "
+                                                        "(one job per variant and an analysis job, through sbatch)");
+  study_cmd->add_option("--jobs", study.jobs, "local: variants at once (default 1), threads divided among them")
+      ->check(CLI::Range(1, kMaxThreads));
+  study_cmd->add_option("--slurm-opt", study.slurm_options, "an sbatch option for every job, e.g. --slurm-opt=--partition=short "
+                                                            "(repeatable)")->allow_extra_args(false);
+  study_cmd->add_option("--analyse", study.analyse, "analyse the study in FOLDER on whatever has finished, say what is missing");
+  study_cmd->add_option("--variant", study.variant, "run only this variant of the study (what the jobs run)");
 
   try {
     cli.parse(argc, argv);

@@ -1,12 +1,22 @@
-// `capsflow study [SCENE] -o DIR --levels 3,4,5 [--vary key=v1,v2]... [--set key=value]...`:
-// parse the levels and vary axes, then hand over to study/study_runner.
+// `capsflow study [SCENE] -o DIR --levels 3,4,5 [--vary key=v1,v2]... [--set key=value]... [--scheduler …]`
+// and `capsflow study --analyse DIR`: parse the levels, vary axes and scheduler, then hand over to
+// study/study_runner.
+#include <stdexcept>
+
 #include "capsflow/core/study/study_runner.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {
 
 int study_command(const StudyCommandOptions& o) {
+  if (!o.analyse.empty()) return study::analyse_study_folder(o.analyse);
   study::StudyOptions s;
+  const auto scheduler = from_string<study::Scheduler>(o.scheduler);
+  if (!scheduler) throw std::runtime_error("--scheduler " + o.scheduler + ": must be one of " + name_list<study::Scheduler>());
+  s.scheduler = *scheduler;
+  s.jobs = o.jobs;
+  s.slurm_options = o.slurm_options;
+  s.variant = o.variant;
   s.scene_path = o.scene_path;
   s.overrides = o.overrides;
   s.levels = study::parse_levels(o.levels);

@@ -34,8 +34,8 @@ StudyAnalysis analyse_study(const StudyPlan& plan, const std::vector<VariantReco
     for (std::size_t i = 0; i < plan.variants.size(); ++i) {
       const Variant& v = plan.variants[i];
       if (v.family != family) continue;
-      if (records[i].state == "finished" && records[i].result) done.emplace_back(v.level, &*records[i].result);
-      else missing.push_back(fmt::format("L{} {}", v.level, records[i].state));
+      if (records[i].state == VariantState::Finished && records[i].result) done.emplace_back(v.level, &*records[i].result);
+      else missing.push_back(fmt::format("L{} {}", v.level, to_string(records[i].state)));
     }
     if (done.empty()) {
       a.notes.push_back(label + ": no finished level yet");

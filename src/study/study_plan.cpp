@@ -90,6 +90,17 @@ VaryAxis parse_vary(const std::string& text) {
   return a;
 }
 
+nlohmann::json base_scene_json(const StudyPlan& plan) {
+  nlohmann::json j = to_json(plan.variants.front().scene);
+  auto drop = [&j](const std::string& key) {
+    const auto dot = key.find('.');
+    if (j.contains(key.substr(0, dot))) j[key.substr(0, dot)].erase(key.substr(dot + 1));
+  };
+  drop("mesh.level");
+  for (const VaryAxis& a : plan.vary) drop(a.key);
+  return j;
+}
+
 std::string family_label(const std::string& family) { return family.empty() ? "scene" : family; }
 
 StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::string>& overrides,
@@ -107,7 +118,7 @@ StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::
     if (!keys.insert(a.key).second) fail("--vary " + a.key + ": the key is given twice");
 
   auto load = [&](const std::vector<std::string>& o) {
-    return scene_path.empty() ? parse_scene(default_scene_toml(), "<built-in default>", o) : load_scene(scene_path, o);
+    return scene_path.empty() ? parse_scene(default_scene_toml(), kBuiltInSceneName, o) : load_scene(scene_path, o);
   };
   const Scene base = load(overrides);
   if (!base.mesh.file.empty())

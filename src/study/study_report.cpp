@@ -62,17 +62,18 @@ nlohmann::json study_json(const StudyReport& r) {
   nlohmann::json families = nlohmann::json::array();
   for (const std::string& f : p.families) families.push_back(family_label(f));
   nlohmann::json j;
-  j["study"] = {{"scene", p.scene_path.empty() ? std::string("<built-in default>") : p.scene_path},
+  j["study"] = {{"scene", p.scene_path.empty() ? std::string(kBuiltInSceneName) : p.scene_path},
                 {"set", p.overrides}, {"levels", p.levels}, {"vary", vary}, {"families", families},
                 {"command_line", r.command_line}, {"version", version_string()}, {"git", git_hash()},
                 {"refinement", "h halves from one level to the next"},
-                {"sane_order_range", {kMinSaneOrder, kMaxSaneOrder}}};
+                {"sane_order_range", {kMinSaneOrder, kMaxSaneOrder}}, {"base_scene", base_scene_json(p)}};
   nlohmann::json variants = nlohmann::json::array();
   for (std::size_t i = 0; i < p.variants.size(); ++i) {
     const Variant& v = p.variants[i];
     const VariantRecord& rec = r.records[i];
     nlohmann::json jv = {{"name", v.name}, {"family", family_label(v.family)}, {"level", v.level},
-                         {"elements", v.elements}, {"state", rec.state}};
+                         {"elements", v.elements}, {"state", to_string(rec.state)}};
+    if (!rec.note.empty()) jv["note"] = rec.note;
     if (rec.result) {
       const VariantResult& res = *rec.result;
       nlohmann::json phases = nlohmann::json::object(), final_values = nlohmann::json::object();
@@ -130,7 +131,7 @@ std::string study_markdown(const StudyReport& r) {
   std::string fams;
   for (const std::string& f : p.families) fams += (fams.empty() ? "" : ", ") + family_label(f);
   md += fmt::format("Scene `{}`, levels {}–{} (h halves per level), families: {}. capsflow {} (git {}).\n\n",
-                    p.scene_path.empty() ? "<built-in default>" : p.scene_path, p.levels.front(), p.levels.back(), fams,
+                    p.scene_path.empty() ? kBuiltInSceneName : p.scene_path, p.levels.front(), p.levels.back(), fams,
                     version_string(), git_hash());
   md += fmt::format(
       "p: observed order log2(e1/e2) of the three finest levels (e1, e2 their two differences); f*: Richardson "
@@ -154,14 +155,14 @@ std::string study_markdown(const StudyReport& r) {
     const Variant& v = p.variants[i];
     const VariantRecord& rec = r.records[i];
     if (!rec.result) {
-      md += fmt::format("| {} | {} | {} |  |  |  |  |", v.name, v.elements, rec.state);
+      md += fmt::format("| {} | {} | {} |  |  |  |  |", v.name, v.elements, to_string(rec.state));
       for (std::size_t k = 0; k < phases.size(); ++k) md += "  |";
       md += "  |\n";
       continue;
     }
     const VariantResult& res = *rec.result;
     md += fmt::format("| {} | {} | {} | {:g} | {:.1f} | {} | {:.2f} |", v.name, res.elements,
-                      rec.state == "finished" ? rec.state : rec.state + " (" + res.stop_reason + ")", res.t_final,
+                      rec.state == VariantState::Finished ? std::string(to_string(rec.state)) : to_string(rec.state) + (" (" + res.stop_reason + ")"), res.t_final,
                       res.wall_seconds, res.rhs_evaluations, 1e3 * res.seconds_per_evaluation);
     for (const std::string& ph : phases) {
       const auto it = res.seconds_per_evaluation_by_phase.find(ph);

@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "capsflow/core/study/study_plan.hpp"
+#include "capsflow/core/study/variant_record.hpp"
+
 namespace capsflow::study {
 
 class CostModel {
@@ -33,5 +36,8 @@ class CostModel {
   double default_exponent_;
   std::vector<Sample> samples_;
 };
+
+// The model of a study: the scheme's default exponent, fitted to its finished variants.
+CostModel study_cost_model(const StudyPlan& plan, const std::vector<VariantRecord>& records);
 
 }  // namespace capsflow::study

@@ -11,15 +11,9 @@
 
 #include "capsflow/core/study/convergence.hpp"
 #include "capsflow/core/study/study_plan.hpp"
-#include "capsflow/core/study/variant_folder.hpp"
+#include "capsflow/core/study/variant_record.hpp"
 
 namespace capsflow::study {
-
-// The study's view of one variant of the plan (same index).
-struct VariantRecord {
-  std::string state = "pending";        // pending | finished | failed | interrupted
-  std::optional<VariantResult> result;  // finished and failed variants (both have a summary)
-};
 
 struct ConvergenceRow {
   std::string family, observable;

@@ -8,6 +8,7 @@
 // Everything is validated before anything runs (a typo must not surface after hours): the levels
 // (integers, no repeats, consecutive — the order estimate assumes h halves per level), the vary
 // axes (key=v1,v2,..., no mesh.level, no repeated key) and every variant's scene.
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,9 @@
 #include "capsflow/core/scene/scene.hpp"
 
 namespace capsflow::study {
+
+// The scene name recorded for a study of the built-in default scene.
+inline constexpr const char* kBuiltInSceneName = "<built-in default>";
 
 struct VaryAxis {
   std::string key;                  // section.key
@@ -49,6 +53,10 @@ VaryAxis parse_vary(const std::string& text);
 // Builds and validates every variant. Throws SceneError / std::runtime_error (one line).
 StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::string>& overrides,
                           const std::vector<int>& levels, const std::vector<VaryAxis>& vary);
+
+// The scene every variant shares: the scene file with the study's --set, mesh.level and the vary
+// keys left out (to_json form; study.json's `study.base_scene`).
+nlohmann::json base_scene_json(const StudyPlan& plan);
 
 // "geometry=curved" (the family label used in reports; "scene" without --vary).
 std::string family_label(const std::string& family);

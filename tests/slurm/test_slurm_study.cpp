@@ -1,0 +1,183 @@
+// `capsflow study --scheduler slurm` against a real one-node Slurm (local_cluster.sh, started by
+// the slurm_cluster ctest fixture): a small study submitted, waited for and compared with the
+// same study run locally; a second call that skips what finished and resubmits a variant whose
+// job failed; errors of the submission. Job states come from squeue/scontrol and the study's own
+// files (the cluster has no accounting daemon).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "run_capsflow.hpp"
+
+namespace fs = std::filesystem;
+using capsflow_test::capsflow;
+using capsflow_test::Result;
+using capsflow_test::slurp;
+
+namespace {
+
+struct TempDir : capsflow_test::TempDir {
+  TempDir() : capsflow_test::TempDir("slurm") {}
+};
+
+nlohmann::json json_of(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
+
+// The cluster of the fixture: SLURM_CONF set for this process and the capsflow it starts, or the
+// reason it is not there (the test then skips).
+std::string use_cluster() {
+  const std::string state = slurp(CAPSFLOW_SLURM_STATE);
+  if (state.empty()) return "no cluster state file " CAPSFLOW_SLURM_STATE " (run the slurm_cluster_start test first)";
+  if (state.rfind("skip: ", 0) == 0) return state;
+  const fs::path dir = state.substr(0, state.find('\n'));
+  setenv("SLURM_CONF", (dir / "slurm.conf").c_str(), 1);
+  return "";
+}
+
+int shell(const std::string& cmd) {
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Waits until none of the study's recorded jobs is in the queue any more. Bounded: the jobs take
+// a few seconds each; 240 s leaves room for a loaded machine (2 cores shared by the suite).
+bool wait_for_jobs(const fs::path& study, double seconds = 240) {
+  const nlohmann::json jobs = json_of(study / "slurm" / "jobs.json");
+  std::string ids;
+  for (const auto& s : jobs["submissions"]) ids += (ids.empty() ? "" : ",") + s["job"].get<std::string>();
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < seconds) {
+    if (shell("test -z \"$(squeue -h -j " + ids + " 2>/dev/null)\"") == 0) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  return false;
+}
+
+// A membrane capsule (no rotation solves) on levels 1–2 to γ̇t = 0.1: a second or two per variant.
+const std::string kStudy = "study --levels 1,2 --vary fluid.geometry=flat,curved --set wall.model=membrane --set wall.law=nh "
+                           "--set flow.ca_s=0.2 --set time.t_end=0.1 --set output.every=0.05 --threads 1";
+
+// What must not depend on where the variants ran: states, stop reasons and final values of every
+// variant, and every convergence row (study.csv holds no wall times, so it must be identical).
+void expect_same_results(const fs::path& a, const fs::path& b) {
+  EXPECT_EQ(slurp(a / "study.csv"), slurp(b / "study.csv"));  // bit for bit: the same runs, results independent of threads
+  const nlohmann::json ja = json_of(a / "study.json"), jb = json_of(b / "study.json");
+  ASSERT_EQ(ja["variants"].size(), jb["variants"].size());
+  for (std::size_t i = 0; i < ja["variants"].size(); ++i) {
+    const auto &va = ja["variants"][i], &vb = jb["variants"][i];
+    EXPECT_EQ(va["name"], vb["name"]);
+    EXPECT_EQ(va["state"], vb["state"]) << va["name"];
+    EXPECT_EQ(va["final"], vb["final"]) << va["name"];
+    EXPECT_EQ(va["rhs_evaluations"], vb["rhs_evaluations"]) << va["name"];
+  }
+  EXPECT_EQ(ja["final"], jb["final"]);
+  EXPECT_EQ(ja["series"], jb["series"]);
+}
+
+}  // namespace
+
+TEST(SlurmStudy, RunsToItsAnalysisResubmitsAFailedVariantAndMatchesTheLocalStudy) {
+  if (const std::string why = use_cluster(); !why.empty()) GTEST_SKIP() << why;
+  TempDir d;
+  const fs::path local = d.path / "local", cluster = d.path / "cluster";
+  const Result l = capsflow(kStudy + " -o " + local.string(), d.path);
+  ASSERT_EQ(l.code, 0) << l.out;
+
+  const Result first = capsflow(kStudy + " --scheduler slurm -o " + cluster.string(), d.path);
+  ASSERT_EQ(first.code, 0) << first.out;
+  EXPECT_NE(first.out.find("submitted 4 variants to Slurm"), std::string::npos) << first.out;
+  EXPECT_NE(first.out.find("squeue -j"), std::string::npos) << first.out;
+  EXPECT_TRUE(fs::exists(cluster / "slurm" / "variants.sh"));
+  ASSERT_TRUE(wait_for_jobs(cluster)) << "the jobs did not leave the queue in time";
+  // The analysis job wrote the study files: the same results as the local study.
+  const nlohmann::json jobs = json_of(cluster / "slurm" / "jobs.json");
+  const std::string analysis_log = slurp(cluster / jobs["analysis"]["log"].get<std::string>());
+  EXPECT_NE(analysis_log.find("4 of 4 variants finished"), std::string::npos) << analysis_log;
+  expect_same_results(local, cluster);
+
+  // A variant whose job fails: its results gone and a folder named run.h5 in its way (the run
+  // cannot replace it: an I/O error, exit 1). The next call submits it alone.
+  const fs::path victim = cluster / "geometry=curved_L2";
+  const std::string untouched = slurp(cluster / "geometry=flat_L2" / "summary.json");
+  for (const char* f : {"summary.json", "run.h5", "checkpoint.h5", "checkpoint.prev.h5"}) fs::remove(victim / f);
+  fs::create_directories(victim / "run.h5" / "blocker");
+  const Result second = capsflow(kStudy + " --scheduler slurm -o " + cluster.string(), d.path);
+  ASSERT_EQ(second.code, 0) << second.out;
+  EXPECT_NE(second.out.find("submitted 1 variant to Slurm"), std::string::npos) << second.out;
+  ASSERT_TRUE(wait_for_jobs(cluster));
+  const nlohmann::json after_failure = json_of(cluster / "study.json");
+  EXPECT_EQ(after_failure["variants"][3]["name"], "geometry=curved_L2");
+  EXPECT_EQ(after_failure["variants"][3]["state"], "error");  // reported by the analysis job
+  EXPECT_NE(after_failure["variants"][3]["note"].get<std::string>().find("capsflow: error:"), std::string::npos)
+      << after_failure["variants"][3].dump();
+
+  // The third call reports the failed job and submits it again; with the obstacle gone it finishes.
+  fs::remove_all(victim / "run.h5");
+  const Result third = capsflow(kStudy + " --scheduler slurm -o " + cluster.string(), d.path);
+  ASSERT_EQ(third.code, 0) << third.out;
+  EXPECT_NE(third.out.find("geometry=curved_L2: job "), std::string::npos) << third.out;
+  EXPECT_NE(third.out.find("ended without a result"), std::string::npos) << third.out;
+  EXPECT_NE(third.out.find("submitted 1 variant to Slurm"), std::string::npos) << third.out;
+  ASSERT_TRUE(wait_for_jobs(cluster));
+  EXPECT_EQ(slurp(cluster / "geometry=flat_L2" / "summary.json"), untouched);  // finished variants are never run again
+  expect_same_results(local, cluster);
+
+  // Everything finished: a fourth call submits nothing and analyses in place.
+  const Result fourth = capsflow(kStudy + " --scheduler slurm -o " + cluster.string(), d.path);
+  EXPECT_EQ(fourth.code, 0) << fourth.out;
+  EXPECT_NE(fourth.out.find("every variant has a result: 4 of 4 finished"), std::string::npos) << fourth.out;
+}
+
+TEST(SlurmStudy, AQueuedVariantIsNeverSubmittedTwice) {
+  if (const std::string why = use_cluster(); !why.empty()) GTEST_SKIP() << why;
+  TempDir d;
+  const fs::path out = d.path / "s";
+  const std::string tiny = "study --levels 1 --set wall.model=membrane --set time.t_end=0.02 --threads 1 --scheduler slurm "
+                           "--slurm-opt=--hold -o " + out.string();  // held: stays queued until released
+  const Result first = capsflow(tiny, d.path);
+  ASSERT_EQ(first.code, 0) << first.out;
+  const Result second = capsflow(tiny, d.path);
+  EXPECT_EQ(second.code, 0) << second.out;
+  EXPECT_NE(second.out.find("nothing to submit: 0 finished, 1 queued"), std::string::npos) << second.out;
+  const nlohmann::json jobs = json_of(out / "slurm" / "jobs.json");
+  EXPECT_EQ(jobs["submissions"].size(), 2u);  // the variant's and the analysis, once
+  for (const auto& s : jobs["submissions"]) shell("scancel " + s["job"].get<std::string>());
+  ASSERT_TRUE(wait_for_jobs(out, 60));
+}
+
+TEST(SlurmStudy, RefusalsAreOneLineAndSubmitNothing) {
+  if (const std::string why = use_cluster(); !why.empty()) GTEST_SKIP() << why;
+  TempDir d;
+  const fs::path out = d.path / "s";
+  const std::string tiny = "study --levels 1 --set wall.model=membrane --set time.t_end=0.02 --scheduler slurm -o " + out.string();
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {" --slurm-opt=--partition=nowhere", "sbatch refused the study's jobs: invalid partition specified: nowhere"},
+      {" --slurm-opt=--array=1", "--slurm-opt --array=1: capsflow sets --array itself"},
+      {" --slurm-opt=partition", "--slurm-opt 'partition': expected an sbatch option"},
+  };
+  for (const Case& c : cases) {
+    const Result r = capsflow(tiny + c.args, d.path);
+    EXPECT_EQ(r.code, 1) << c.args << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(out)) << c.args;  // nothing submitted, nothing written
+  }
+  // No sbatch on PATH: refused before the study folder exists.
+  const Result no_path = [&] {
+    const std::string saved = std::getenv("PATH");
+    setenv("PATH", "/nonexistent", 1);
+    const Result x = capsflow(tiny, d.path);
+    setenv("PATH", saved.c_str(), 1);
+    return x;
+  }();
+  EXPECT_EQ(no_path.code, 1) << no_path.out;
+  EXPECT_NE(no_path.out.find("sbatch is not on PATH"), std::string::npos) << no_path.out;
+  EXPECT_FALSE(fs::exists(out));
+}
