@@ -22,7 +22,7 @@ JobSize size_job(const Variant& v, const CostModel& cost, int threads, long prev
   s.predicted_seconds = s.fitted ? measured
                                  : kReferenceSecondsPerUnitTime * v.scene.time.t_end *
                                        std::pow(n / static_cast<double>(kReferenceElements), cost.exponent());
-  s.minutes = std::max(kMinMinutes, static_cast<long>(std::ceil(kTimeMargin * s.predicted_seconds / 60.0)));
+  s.minutes = std::max(kMinMinutes, static_cast<long>(std::ceil(kTimeMargin * s.predicted_seconds / 60.0 - 1e-9)));
   s.minutes = std::max(s.minutes, 2 * previous_minutes);
   const MeshCounts counts = expected_counts(v.scene.mesh.base, v.level);
   const bool fmm = choose_backend(v.scene.fluid.backend, counts.elements, counts.nodes, v.scene.fluid.tolerance, nullptr) ==

@@ -165,7 +165,7 @@ int submit_study(const StudyPlan& plan, const StudyOptions& o, std::vector<Varia
   for (const auto& [s, vs] : groups) client.submit(group_options(s, vs), script, true);
   client.submit({}, analysis, true);
 
-  const fs::path slurm_dir = o.dir / kSlurmFolder;
+  const fs::path slurm_dir = fs::absolute(o.dir).lexically_normal() / kSlurmFolder;
   std::error_code ec;
   fs::create_directories(slurm_dir, ec);
   if (ec) fail("cannot create '" + slurm_dir.string() + "': " + ec.message());

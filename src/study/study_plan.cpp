@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -46,6 +47,24 @@ std::string safe(const std::string& v) {
   std::string out;
   for (char c : v) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '+' || c == '-') ? c : '_';
   return out.empty() ? "_" : out;
+}
+
+// Two spellings of one value (--vary flow.ca_s=0.1,1e-1) would run the same family twice: refused,
+// naming both, rather than folded, so that the families are exactly the ones given.
+void refuse_equal_families(const StudyPlan& plan) {
+  std::map<std::string, const Variant*> seen;
+  for (const Variant& v : plan.variants) {
+    if (v.level != plan.levels.front()) continue;
+    const auto [it, added] = seen.emplace(to_json(v.scene).dump(), &v);
+    if (added) continue;
+    std::string given;
+    for (const VaryAxis& a : plan.vary) {
+      given += " --vary " + a.key + "=";
+      for (std::size_t k = 0; k < a.values.size(); ++k) given += (k ? "," : "") + a.values[k];
+    }
+    fail(fmt::format("--vary:{} gives the same scene twice: {} and {} (values equal as numbers or lists); give each value once",
+                     given, family_label(it->second->family), family_label(v.family)));
+  }
 }
 
 }  // namespace
@@ -168,6 +187,7 @@ StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::
       v.elements = expected_counts(v.scene.mesh.base, level).elements;
       plan.variants.push_back(std::move(v));
     }
+  refuse_equal_families(plan);
   return plan;
 }
 

@@ -199,9 +199,21 @@ TEST(Study, AVariantFolderOfAnotherSceneIsRefusedUnlessOverwrite) {
                            "--set time.t_end=0.02 --threads 2 -o " + out.string();
   ASSERT_EQ(capsflow(tiny, d.path).code, 0);
   const std::string summary = slurp(out / "L1" / "summary.json");
+  // The study folder records the scene its variants share: another one is refused at once.
   const Result other = capsflow(tiny + " --set time.t_end=0.03", d.path);
   EXPECT_EQ(other.code, 1) << other.out;
-  EXPECT_NE(other.out.find("holds a run of another scene (time.t_end"), std::string::npos) << other.out;
+  EXPECT_NE(other.out.find("is a study of another scene (time.t_end (0.02 there, 0.03 here))"), std::string::npos) << other.out;
+  EXPECT_EQ(slurp(out / "L1" / "summary.json"), summary);
+  // A key the studies vary is not part of what they share: varying it is no other scene.
+  const Result varied = capsflow(tiny + " --vary time.t_end=0.02,0.03", d.path);
+  EXPECT_EQ(varied.code, 0) << varied.out;
+  // Without that record (a study.json of an older capsflow), the variant folder itself is checked.
+  nlohmann::json sj = json_of(out / "study.json");
+  sj["study"].erase("base_scene");
+  std::ofstream(out / "study.json") << sj.dump(2);
+  const Result variant = capsflow(tiny + " --set time.t_end=0.03", d.path);
+  EXPECT_EQ(variant.code, 1) << variant.out;
+  EXPECT_NE(variant.out.find("holds a run of another scene (time.t_end"), std::string::npos) << variant.out;
   EXPECT_EQ(slurp(out / "L1" / "summary.json"), summary);
   const Result again = capsflow(tiny + " --set time.t_end=0.03 --overwrite", d.path);
   EXPECT_EQ(again.code, 0) << again.out;
@@ -218,4 +230,44 @@ TEST(Study, TheSceneMayFollowVaryAndSet) {
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(fs::exists(d.path / "s" / "geometry=flat_L1" / "summary.json"));
   EXPECT_EQ(json_of(d.path / "s" / "study.json")["study"]["scene"], scene.string());
+}
+
+TEST(Study, TwoJobsAtOnceGiveTheSequentialStudysResults) {
+  // Levels 1–2 × two families, once one after the other with 2 threads, once two at a time with
+  // one thread each (the finest first): the same runs, so the same study files apart from times.
+  TempDir d;
+  const std::string tiny = "study --levels 1,2 --vary fluid.geometry=flat,curved --set wall.model=membrane --set wall.law=nh "
+                           "--set flow.ca_s=0.2 --set time.t_end=0.1 --set output.every=0.05 --threads 2 -o ";
+  const Result seq = capsflow(tiny + (d.path / "seq").string(), d.path);
+  ASSERT_EQ(seq.code, 0) << seq.out;
+  const Result par = capsflow(tiny + (d.path / "par").string() + " --jobs 2", d.path);
+  ASSERT_EQ(par.code, 0) << par.out;
+  EXPECT_NE(par.out.find("2 at a time with 1 thread each, longest predicted first: geometry=flat_L2, geometry=curved_L2, "
+                         "geometry=flat_L1, geometry=curved_L1"),
+            std::string::npos)
+      << par.out;
+  // Bit for bit: capsflow's results do not depend on the thread count (docs/testing.md §2, thread-count invariance).
+  EXPECT_EQ(slurp(d.path / "seq" / "study.csv"), slurp(d.path / "par" / "study.csv"));
+  const nlohmann::json a = json_of(d.path / "seq" / "study.json"), b = json_of(d.path / "par" / "study.json");
+  EXPECT_EQ(a["final"], b["final"]);
+  EXPECT_EQ(a["series"], b["series"]);
+  ASSERT_EQ(a["variants"].size(), b["variants"].size());
+  for (std::size_t i = 0; i < a["variants"].size(); ++i) {
+    EXPECT_EQ(a["variants"][i]["final"], b["variants"][i]["final"]) << i;
+    EXPECT_EQ(a["variants"][i]["rhs_evaluations"], b["variants"][i]["rhs_evaluations"]) << i;
+  }
+  // --analyse reads the study back and says what is missing once a variant's results are gone.
+  fs::remove(d.path / "par" / "geometry=curved_L2" / "summary.json");
+  fs::remove(d.path / "par" / "geometry=curved_L2" / "checkpoint.h5");
+  fs::remove(d.path / "par" / "geometry=curved_L2" / "checkpoint.prev.h5");
+  const Result an = capsflow("study --analyse " + (d.path / "par").string(), d.path);
+  EXPECT_EQ(an.code, 3) << an.out;  // not every variant has a result
+  EXPECT_NE(an.out.find("3 of 4 variants finished"), std::string::npos) << an.out;
+  EXPECT_NE(an.out.find("geometry=curved_L2: pending"), std::string::npos) << an.out;
+  EXPECT_EQ(json_of(d.path / "par" / "study.json")["variants"][3]["state"], "pending");
+  // Options that do not go together are one line, exit 1.
+  const Result both = capsflow(tiny + (d.path / "x").string() + " --jobs 2 --scheduler slurm", d.path);
+  EXPECT_EQ(both.code, 1) << both.out;
+  EXPECT_NE(both.out.find("--jobs: only with --scheduler local"), std::string::npos) << both.out;
+  EXPECT_FALSE(fs::exists(d.path / "x"));
 }

@@ -82,3 +82,17 @@ TEST(CostModel, RecoversAPowerLawAndUsesTheSchemeExponentUntilTwoSizesAreMeasure
   noisy.add("f", 2000, 100.0);
   EXPECT_EQ(noisy.exponent(), CostModel::kMaxExponent);
 }
+
+TEST(StudyPlan, TwoSpellingsOfOneValueAreRefusedNamingBoth) {
+  // 0.1 and 1e-1 are the same Ca_s: the two families would be the same runs (issue: identical families).
+  try {
+    make_study_plan("", {}, {1, 2}, {parse_vary("flow.ca_s=0.1,0.2,1e-1")});
+    FAIL() << "equal values accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("--vary: --vary flow.ca_s=0.1,0.2,1e-1 gives the same scene twice: ca_s=0.1 and ca_s=1e-1"),
+              std::string::npos) << m;
+  }
+  // Different values are kept, however close.
+  EXPECT_EQ(make_study_plan("", {}, {1}, {parse_vary("flow.ca_s=0.1,0.1000001")}).families.size(), 2u);
+}
