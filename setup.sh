@@ -15,6 +15,8 @@ shift
 packages=(cmake ninja-build g++ pkg-config ccache git
           libeigen3-dev libfftw3-dev libhdf5-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
           libspdlog-dev libfmt-dev libgtest-dev python3-matplotlib python3-numpy python3-h5py)
+# The Slurm tests run a one-node cluster on localhost (tests/slurm/local_cluster.sh, docs/testing.md).
+if [[ $mode == test ]]; then packages+=(slurm-wlm munge); fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

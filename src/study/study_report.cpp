@@ -171,7 +171,7 @@ std::string study_markdown(const StudyReport& r) {
     md += fmt::format(" {:.0f} |\n", res.peak_rss_mb);
   }
   md += "\nPhases in ms per evaluation (the last run segment). Peak memory is the process's high-water mark at the end "
-        "of the variant: the variants run in one process, coarse to fine, so it bounds the variant's own peak from above.\n";
+        "of the variant: run one after the other in one process, it bounds the variant's own peak from above; with --jobs or Slurm each variant has its own process.\n";
 
   // Final values per family.
   const std::string* current = nullptr;
