@@ -155,19 +155,18 @@ TEST(SlurmStudy, RefusalsAreOneLineAndSubmitNothing) {
   TempDir d;
   const fs::path out = d.path / "s";
   const std::string tiny = "study --levels 1 --set wall.model=membrane --set time.t_end=0.02 --scheduler slurm -o " + out.string();
-  struct Case {
-    std::string args, expect;
-  } cases[] = {
+  // (site option, the message's key part)
+  const std::pair<const char*, const char*> refusals[] = {
       {" --slurm-opt=--partition=nowhere", "sbatch refused the study's jobs: invalid partition specified: nowhere"},
       {" --slurm-opt=--array=1", "--slurm-opt --array=1: capsflow sets --array itself"},
       {" --slurm-opt=partition", "--slurm-opt 'partition': expected an sbatch option"},
   };
-  for (const Case& c : cases) {
-    const Result r = capsflow(tiny + c.args, d.path);
-    EXPECT_EQ(r.code, 1) << c.args << "\n" << r.out;
-    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << c.args << "\n" << r.out;
-    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.args << "\n" << r.out;
-    EXPECT_FALSE(fs::exists(out)) << c.args;  // nothing submitted, nothing written
+  for (const auto& [option, message] : refusals) {
+    const Result r = capsflow(tiny + option, d.path);
+    EXPECT_EQ(r.code, 1) << option << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;  // one line
+    EXPECT_NE(r.out.find(message), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(out)) << option;  // nothing submitted, nothing written
   }
   // No sbatch on PATH: refused before the study folder exists.
   const Result no_path = [&] {
