@@ -173,7 +173,7 @@ TEST(Study, BadInputIsAOneLineErrorNamingTheCulpritAndChangesNothing) {
       {"--levels 1,2 --vary fluid.geometry", "--vary fluid.geometry: expected section.key=value1,value2"},
       {"--levels 1,2 --vary fluid.geometry=flat,bent", "'bent' is not one of"},
       {"--levels 1,2 --vary fluid.geometryy=flat", "fluid.geometryy: unknown key"},
-      {"--levels 1,2 --set fluid.verify_every=-2", "fluid.verify_every: must be a non-negative integer"},
+      {"--levels 1,2 --set fluid.verify_every=-2", "--set fluid.verify_every: -2 is out of range: must be in [0, 1000000]"},
       {"--levels 1,2 --set mesh.level=3", "--set mesh.level=3: a study sets mesh.level itself"},
   };
   for (const Case& c : cases) {

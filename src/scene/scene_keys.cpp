@@ -1,0 +1,270 @@
+// THE table of scene keys: every key of a scene file is one row here — its name, its member, its
+// default, its accepted values and its doc line (the "meaning" column of docs/scene-and-output.md
+// §2, which tests/core/scene/test_scene_keys.cpp keeps equal to this table). Parsing (files and
+// --set), validation, to_json, to_toml, `capsflow info` and the docs are all driven by these rows.
+// Defaults that a library option struct also needs are taken from that struct, so they live once.
+// Rules between keys (ca_s or ca_v, the gradient of each flow type, "auto" schemes, step and output
+// counts) are in scene_rules.cpp. To add a key: a member in its section struct (scene.hpp) and one
+// row below, in the order to_toml should write it; then paste the docs table the test prints.
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <limits>
+
+#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/fmm/calibration.hpp"
+#include "capsflow/shell/gsmb_wall.hpp"
+#include "key_table.hpp"
+
+namespace capsflow {
+
+namespace scene_detail {
+
+namespace {
+
+// A user mesh path, "" for none (then no TOML line).
+Key<MeshSpec> mesh_file(std::string meaning) {
+  Key<MeshSpec> k = documented<MeshSpec>("file", "string", "path to `.off` / `.ply`", "none", std::move(meaning));
+  k.set_default = [](MeshSpec& m) { m.file.clear(); };
+  k.read = [](const TomlReader& r, const std::string& sec, MeshSpec& m) {
+    if (const std::optional<std::string> v = r.string(sec, "file")) m.file = *v;
+  };
+  k.to_json = [](const MeshSpec& m) { return nlohmann::json(m.file); };
+  k.to_toml = [](const MeshSpec& m) { return m.file.empty() ? std::nullopt : std::optional<std::string>(quoted(m.file)); };
+  return k;
+}
+
+// The membrane laws by their scene names (shell::to_string); aliases that shell accepts are not
+// scene spellings.
+Spellings<shell::LawKind> law_spellings() {
+  Spellings<shell::LawKind> out;
+  for (shell::LawKind k : {shell::LawKind::GeneralizedHooke, shell::LawKind::NeoHookean, shell::LawKind::Skalak,
+                           shell::LawKind::MooneyRivlin})
+    out.emplace_back(k, shell::to_string(k));
+  return out;
+}
+
+// time.scheme: "auto" is kept as Auto until the rules resolve it from the wall model; what is
+// written is the resolved scheme.
+Key<TimeSpec> time_scheme(std::string meaning) {
+  Key<TimeSpec> k = choice("scheme", &TimeSpec::scheme, TimeScheme::Auto, std::move(meaning));
+  k.read = [read = k.read](const TomlReader& r, const std::string& sec, TimeSpec& t) {
+    read(r, sec, t);
+    if (r.has(sec, "scheme")) t.scheme_auto = t.scheme == TimeScheme::Auto;
+  };
+  return k;
+}
+
+// time.dt: a positive number (a fixed step) or "auto".
+Key<TimeSpec> time_dt(std::string meaning) {
+  const Range<double> range = above(0.0);
+  Key<TimeSpec> k =
+      documented<TimeSpec>("dt", "number or `\"auto\"`", range.text() + ", or `\"auto\"`", "`\"auto\"`", std::move(meaning));
+  k.set_default = [](TimeSpec& t) {
+    t.dt_auto = true;
+    t.dt = 0;
+  };
+  k.read = [range](const TomlReader& r, const std::string& sec, TimeSpec& t) {
+    const toml::node* n = r.find(sec, "dt");
+    if (!n) return;
+    if (n->is_string()) {
+      if (n->as_string()->get() != "auto") r.fail(sec, "dt", "expected a positive number or \"auto\"");
+      t.dt_auto = true;
+      return;
+    }
+    const double dt = *r.number(sec, "dt");
+    if (!range.contains(dt)) r.fail(sec, "dt", range.out_of_range(dt));
+    t.dt = dt;
+    t.dt_auto = false;
+  };
+  k.to_json = [](const TimeSpec& t) { return t.dt_auto ? nlohmann::json("auto") : nlohmann::json(t.dt); };
+  k.to_toml = [](const TimeSpec& t) { return std::optional<std::string>(t.dt_auto ? quoted("auto") : toml_number(t.dt)); };
+  return k;
+}
+
+// flow.ca_v: written to TOML only as the comment on ca_s's line (one of the two is the input).
+Key<FlowSpec> flow_ca_v(std::string meaning) {
+  Key<FlowSpec> k = number("ca_v", &FlowSpec::ca_v, 0.003, above(0.0), std::move(meaning));
+  k.alternative = "ca_s";
+  k.to_toml = [](const FlowSpec&) { return std::optional<std::string>(); };
+  return k;
+}
+
+// flow.ca_s: when given, ca_v follows from it; otherwise it follows from ca_v (scene_rules.cpp).
+Key<FlowSpec> flow_ca_s(std::string meaning) {
+  Key<FlowSpec> k = number("ca_s", &FlowSpec::ca_s, 0.0, above(0.0), std::move(meaning));
+  k.alternative = "ca_v";
+  k.default_text = [] { return std::string("derived: ca_v/thickness"); };
+  k.set_default = [](FlowSpec& f) {
+    f.ca_s_from_ca_v = true;
+    f.ca_s = std::numeric_limits<double>::quiet_NaN();  // until the thickness is known (Scene(), parse_scene)
+  };
+  k.read = [read = k.read](const TomlReader& r, const std::string& sec, FlowSpec& f) {
+    read(r, sec, f);
+    if (r.has(sec, "ca_s")) f.ca_s_from_ca_v = false;
+  };
+  k.to_toml = [](const FlowSpec& f) {
+    return std::optional<std::string>(toml_number(f.ca_s) + "  # ca_v = ca_s * thickness = " + toml_number(f.ca_v));
+  };
+  return k;
+}
+
+// flow.gradient: L of v∞ = L x, given only with type = "linear" (scene_rules.cpp); resolved for
+// every type, so JSON always has it.
+Key<FlowSpec> flow_gradient(std::string meaning) {
+  Key<FlowSpec> k = documented<FlowSpec>("gradient", "3×3 array of numbers", "finite, trace-free", "—", std::move(meaning));
+  k.set_default = [](FlowSpec& f) { f.gradient.setZero(); };
+  k.read = [](const TomlReader& r, const std::string& sec, FlowSpec& f) {
+    if (const std::optional<Mat3> g = r.matrix3(sec, "gradient")) {
+      if (!(std::abs(g->trace()) <= 1e-12 * std::max(1.0, g->norm())))
+        r.fail(sec, "gradient", "must be trace-free (incompressible flow)");
+      f.gradient = *g;
+    }
+  };
+  k.to_json = [](const FlowSpec& f) {
+    nlohmann::json g = nlohmann::json::array();
+    for (int i = 0; i < 3; ++i) g.push_back({f.gradient(i, 0), f.gradient(i, 1), f.gradient(i, 2)});
+    return g;
+  };
+  k.to_toml = [](const FlowSpec& f) {
+    if (f.type != FlowType::Linear) return std::optional<std::string>();
+    const Mat3& g = f.gradient;
+    return std::optional<std::string>(fmt::format("[[{}, {}, {}], [{}, {}, {}], [{}, {}, {}]]", g(0, 0), g(0, 1), g(0, 2),
+                                                  g(1, 0), g(1, 1), g(1, 2), g(2, 0), g(2, 1), g(2, 2)));
+  };
+  return k;
+}
+
+}  // namespace
+
+const Section<MeshSpec>& mesh_keys() {
+  static const Section<MeshSpec> s{
+      "mesh", &Scene::mesh,
+      {choice("base", &MeshSpec::base, BaseSolid::Icosahedron, "base solid (`docs/conventions.md` §4.1)"),
+       integer("level", &MeshSpec::level, 4, closed(0, 9), "subdivisions: 20·4^level or 8·4^level elements"),
+       choice("shape", &MeshSpec::shape, MeshShape::Spheroid, "`\"sphere\"` forces `aspect = 1`"),
+       number("aspect", &MeshSpec::aspect, 1.4, closed(0.1, 10.0), "a/b of the spheroid (> 1 prolate, < 1 oblate)"),
+       integer("axis", &MeshSpec::axis, 3, closed(1, 3), "symmetry axis of the spheroid"),
+       mesh_file("user mesh; when given, `base`, `level`, `shape`, `aspect`, `axis` are ignored (still validated). A "
+                 "relative path in a scene file is relative to the scene's folder; given with `--set`, relative to the "
+                 "working directory (`docs/conventions.md` §4.4)")}};
+  return s;
+}
+
+const Section<WallSpec>& wall_keys() {
+  const shell::GsmbOptions gsmb;  // the shell's defaults
+  static const Section<WallSpec> s{
+      "wall", &Scene::wall,
+      {choice("model", &WallSpec::model, WallModel::Gsmb, "membrane only, or MITC3 GSMB shell (`docs/shell.md` §2.2)"),
+       choice("law", &WallSpec::law, shell::LawKind::GeneralizedHooke,
+              "membrane law (`docs/shell.md` §2.3); `\"mr\"` is Mooney–Rivlin", law_spellings()),
+       number("thickness", &WallSpec::thickness, gsmb.thickness, open_closed(0.0, 0.5).because("h/ℓ"), "α = h/ℓ"),
+       number("poisson", &WallSpec::poisson, gsmb.poisson, open(-1.0, 1.0),
+              "ν_s of GH; ν of the GSMB bending and shear terms (any law)"),
+       number("skalak_c", &WallSpec::skalak_c, 1.0, above(0.0), "Skalak area parameter C"),
+       number("mooney_rivlin_psi", &WallSpec::mooney_rivlin_psi, 0.1, closed(0.0, 1.0),
+              "Mooney–Rivlin Ψ = C2/(C1 + C2) (0 is neo-Hookean)"),
+       integer("max_newton", &WallSpec::max_newton, gsmb.max_newton, closed(1, 1000),
+               "GSMB: iteration cap of the rotation Newton solve (usually 1–4 are used; up to 47 measured where a fold "
+               "makes the rotation equilibrium a saddle, `docs/shell.md` §2.8); a solve that does not converge is retried "
+               "once from the nodal normals, then stops the run with `solver_failure`")}};
+  return s;
+}
+
+const Section<FlowSpec>& flow_keys() {
+  static const Section<FlowSpec> s{
+      "flow", &Scene::flow,
+      {choice("type", &FlowSpec::type, FlowType::PlanarHyperbolic, "imposed flow (`docs/conventions.md` §3)"),
+       flow_ca_v("Ca_v = μγ̇/G; then ca_s = ca_v/thickness"),
+       flow_ca_s("Ca_s = μγ̇ℓ/G_s; then ca_v = ca_s·thickness"),
+       flow_gradient("L of v∞ = L x; required with `type = \"linear\"`, refused otherwise")}};
+  return s;
+}
+
+const Section<TimeSpec>& time_keys() {
+  static const Section<TimeSpec> s{
+      "time", &Scene::time,
+      {time_scheme("Heun at the stability-limited step (§5.1–5.2), or damped RKC2 with error control "
+                   "(`docs/time-integration.md` §5.7); `\"auto\"`: RKC for a GSMB wall, Heun for a membrane (resolved "
+                   "when the scene is read; the log says which)"),
+       number("tolerance", &TimeSpec::tolerance, 1e-6, closed(1e-9, 1e-1).because("units of ℓ"),
+              "RKC: local error per step, RMS over nodes, in units of ℓ (§5.7: keeps D_ij within 1e-4 of the "
+              "time-converged result on the paper's cases)"),
+       time_dt("fixed step; `\"auto\"`: Heun takes `dt_safety` × the stability limit recomputed every step "
+               "(`docs/time-integration.md` §5.2), RKC its error-controlled step"),
+       // 0.8: the calibrated limit is a measured bound with 18 % to spare on the worst calibration case
+       // (c_m = 1.15 measured against 1.4 used, docs/time-integration.md §5.2.3); above, a step is no
+       // longer known to be stable (dt_safety = 1.4 loses 3 % of the volume and half of D13).
+       number("dt_safety", &TimeSpec::dt_safety, 0.7,
+              open_closed(0.0, 0.8).because("the largest fraction of the calibrated limit measured stable"),
+              "Heun: fraction of the limit used by `\"auto\"`; 0.8 is the largest fraction measured stable on the "
+              "calibration cases (§5.2.3)"),
+       number("t_end", &TimeSpec::t_end, 5.0, above(0.0), "final γ̇t"),
+       boolean("stop_at_steady", &TimeSpec::stop_at_steady, false,
+               "stop when the steady-state test holds (`docs/time-integration.md` §5.4)"),
+       number("steady_tol", &TimeSpec::steady_tol, 5e-4, above(0.0), "area change over γ̇t = 1, relative to 4πℓ²"),
+       choice_list("stop_on", &TimeSpec::stop_on,
+                   "stop (exit 3, `stop_reason` = the name) when one of these health conditions begins "
+                   "(`docs/health-monitors.md`); each is warned about once per episode either way")}};
+  return s;
+}
+
+const Section<FluidSpec>& fluid_keys() {
+  const SingleLayerOptions bie;  // the boundary integral's defaults
+  // The calibrated orders (fmm/calibration.hpp); 0 keeps the order the tolerance calls for.
+  const int lowest = std::begin(fmm::kCalibration)->order, highest = std::prev(std::end(fmm::kCalibration))->order;
+  static const Section<FluidSpec> s{
+      "fluid", &Scene::fluid,
+      {choice("backend", &FluidSpec::backend, bie.backend, "far-field summation (`docs/boundary-integral.md` §4.3)"),
+       // The boundary integral asks the FMM for 0.25 × the tolerance (its floor is 1e-10,
+       // fmm/calibration.hpp), and its direct far field is accurate to ~1e-9 (single_layer.cpp).
+       number("tolerance", &FluidSpec::tolerance, bie.tolerance,
+              closed(1e-8, 1e-1).because("the far-field sums are accurate to ~1e-9"),
+              "far-field accuracy relative to max‖v‖; sets the FMM order, and from 1e-5 on lets the direct sum use "
+              "single-precision pairs"),
+       choice("geometry", &FluidSpec::geometry, bie.geometry,
+              "surface seen by the boundary integral (`docs/boundary-integral.md` §4.5)"),
+       boolean("volume_correction", &FluidSpec::volume_correction, true,
+               "remove the discrete net flux at every stage (`docs/time-integration.md` §5.3)"),
+       integer("fmm_order", &FluidSpec::fmm_order, bie.fmm_order,
+               closed(lowest, highest).or_value(0).because("0: the order follows from fluid.tolerance"),
+               "0: the FMM order follows from `tolerance` (`fmm/calibration.hpp`); otherwise that order is forced (to "
+               "measure accuracy against cost, or to show that `verify_every` catches a too-low order)"),
+       // 1e6 evaluations between checks is as good as none (and keeps the count an int).
+       integer("verify_every", &FluidSpec::verify_every, bie.verify_every,
+               closed(0, 1000000).because("right-hand-side evaluations between direct checks; 0 = off"),
+               "direct check of the far field: every N right-hand-side evaluations (the first one included) the far "
+               "field is also summed directly, in full double precision, on the same sources and nodes; 0 = off (then "
+               "nothing is computed and no column or key is added)")}};
+  return s;
+}
+
+const Section<OutputSpec>& output_keys() {
+  static const Section<OutputSpec> s{
+      "output", &Scene::output,
+      {number("every", &OutputSpec::every, 0.1, above(0.0),
+              "output interval in γ̇t (time steps are shortened to land on it)"),
+       choice_list("fields", &OutputSpec::fields, "nodal fields stored per output step (§3.2)"),
+       number("checkpoint_every", &OutputSpec::checkpoint_every, 0.5, at_least(0.0),
+              "checkpoint interval in γ̇t; 0 = only the final checkpoint")}};
+  return s;
+}
+
+}  // namespace scene_detail
+
+// Each section struct starts from the table's defaults.
+namespace {
+template <class Spec>
+void set_defaults(const scene_detail::Section<Spec>& section, Spec& spec) {
+  for (const auto& k : section.keys) k.set_default(spec);
+}
+}  // namespace
+
+MeshSpec::MeshSpec() { set_defaults(scene_detail::mesh_keys(), *this); }
+WallSpec::WallSpec() { set_defaults(scene_detail::wall_keys(), *this); }
+FlowSpec::FlowSpec() { set_defaults(scene_detail::flow_keys(), *this); }
+TimeSpec::TimeSpec() { set_defaults(scene_detail::time_keys(), *this); }
+FluidSpec::FluidSpec() { set_defaults(scene_detail::fluid_keys(), *this); }
+OutputSpec::OutputSpec() { set_defaults(scene_detail::output_keys(), *this); }
+
+}  // namespace capsflow
