@@ -75,6 +75,13 @@ std::optional<LockHolder> read_lock_holder(const fs::path& lock_file) {
   return parse_holder(text);
 }
 
+bool is_empty_but_for_lock(const fs::path& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().filename() != kFolderLockFile) return false;
+  return true;
+}
+
 FolderLock FolderLock::acquire(const fs::path& dir, const std::string& command) {
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/io/output_folder.hpp"
 #include "capsflow/core/study/study_report.hpp"
 
@@ -52,7 +53,7 @@ void prepare_study_folder(const fs::path& dir, bool overwrite) {
     if (ec) fail("cannot create study folder " + quoted(dir) + ": " + ec.message());
   } else if (!fs::is_directory(st)) {
     fail("output path " + quoted(dir) + " exists and is not a folder");
-  } else if (!fs::is_empty(dir, ec) && !fs::exists(dir / kStudyJson, ec) && !overwrite) {
+  } else if (!io::is_empty_but_for_lock(dir) && !fs::exists(dir / kStudyJson, ec) && !overwrite) {
     fail("output folder " + quoted(dir) + " is not empty and holds no " + kStudyJson +
          " (not a study folder); pass --overwrite to use it anyway, or choose another -o");
   }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/study/cost_model.hpp"
 #include "capsflow/core/study/local_jobs.hpp"
 #include "capsflow/core/study/slurm_study.hpp"
@@ -173,6 +174,9 @@ int run_study(const StudyOptions& o) {
   if (o.scheduler == Scheduler::Slurm) check_slurm_submission(o);  // before anything is written
   std::error_code ec;
   const bool new_folder = !fs::exists(o.dir, ec);
+  // One study per folder at a time, for the whole study (its variants lock their own run folders).
+  io::FolderLock lock = io::FolderLock::acquire(o.dir, "study");
+  if (lock.taken_over()) spdlog::warn("study folder {}: took over the lock of {}, which is gone", o.dir.string(), lock.taken_over()->describe());
   prepare_study_folder(o.dir, o.overwrite);
   std::vector<VariantRecord> records(plan.variants.size());
   if (!o.overwrite) {
@@ -183,6 +187,7 @@ int run_study(const StudyOptions& o) {
     try {
       return submit_study(plan, o, records);
     } catch (const std::runtime_error&) {
+      lock.release();
       if (new_folder && fs::is_empty(o.dir, ec)) fs::remove(o.dir, ec);  // refused before anything was written
       throw;
     }
@@ -209,6 +214,7 @@ int run_study(const StudyOptions& o) {
 
 int analyse_study_folder(const fs::path& dir) {
   const StudyOptions o = recorded_study(dir);
+  const io::FolderLock lock = io::FolderLock::acquire(dir, "study --analyse");  // it rewrites the study's reports
   const StudyPlan plan = make_study_plan(o.scene_path, o.overrides, o.levels, o.vary);
   std::vector<VariantRecord> records = read_variant_records(plan, dir);
   annotate_from_slurm_records(plan, dir, records);

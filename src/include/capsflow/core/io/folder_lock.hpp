@@ -63,6 +63,10 @@ class FolderLock {
   std::optional<LockHolder> stale_;
 };
 
+// True when `dir` holds nothing but (possibly) its lock file: a folder locked by this very run is
+// still an empty folder for the decisions taken under the lock.
+bool is_empty_but_for_lock(const std::filesystem::path& dir);
+
 // The holder a lock file names, if it names one (empty or unreadable: nullopt). For messages only.
 std::optional<LockHolder> read_lock_holder(const std::filesystem::path& lock_file);
 

@@ -1,0 +1,83 @@
+// One writer per folder (issue 27): two real capsflow processes on one folder. The first holds the
+// folder's lock for its whole life; the second is refused at once with one line naming the first
+// (pid, command), exit 1, and changes nothing. Each test is bounded in time: the first process is
+// stopped with SIGTERM (checkpoint and summary, exit 130) as soon as the second has been refused.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+#include "run_capsflow.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using capsflow_test::capsflow;
+using capsflow_test::slurp;
+
+struct TempDir : capsflow_test::TempDir {
+  TempDir() : capsflow_test::TempDir("one-writer") {}
+};
+
+// `capsflow ARGS` in the background (output in LOG); stopped with SIGTERM and reaped at the end.
+class Background {
+ public:
+  Background(const std::string& args, const fs::path& log) {
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      const std::string cmd = "exec " + std::string(CAPSFLOW_EXE) + " " + args + " > " + log.string() + " 2>&1";
+      ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+  }
+  ~Background() { stop(); }
+  pid_t pid() const { return pid_; }
+  int stop() {
+    if (pid_ <= 0) return status_;
+    ::kill(pid_, SIGTERM);
+    int st = 0;
+    ::waitpid(pid_, &st, 0);
+    pid_ = -1;
+    return status_ = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int status_ = -1;
+};
+
+// Waits (at most 60 s) until `lock` names a holder: the first process is then past its start-up.
+bool wait_for_lock(const fs::path& lock) {
+  for (int i = 0; i < 600; ++i) {
+    if (fs::exists(lock) && slurp(lock).find("\"pid\"") != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return false;
+}
+
+// A study that takes minutes: the second one must not wait for it.
+const std::string kLongStudy =
+    "study --levels 2,3 --set wall.model=membrane --set flow.ca_s=0.2 --set time.t_end=50 --threads 1";
+
+TEST(OneWriter, ASecondStudyOnTheSameFolderIsRefusedNamingTheFirst) {
+  TempDir d;
+  const fs::path study = d.path / "study";
+  Background first(kLongStudy + " -o " + study.string(), d.path / "first.log");
+  ASSERT_TRUE(wait_for_lock(study / ".capsflow.lock")) << slurp(d.path / "first.log");
+  const auto second = capsflow(kLongStudy + " -o " + study.string(), d.path);
+  EXPECT_EQ(second.code, 1) << second.out;
+  EXPECT_NE(second.out.find("is in use by pid " + std::to_string(first.pid())), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("capsflow study"), std::string::npos) << second.out;
+  // --overwrite does not get past the lock either.
+  EXPECT_EQ(capsflow(kLongStudy + " --overwrite -o " + study.string(), d.path).code, 1);
+  first.stop();
+  EXPECT_FALSE(fs::exists(study / ".capsflow.lock")) << "the first study released its lock when it stopped";
+}
+
+}  // namespace
