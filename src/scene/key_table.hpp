@@ -253,10 +253,6 @@ Key<Spec> choice_list(std::string name, std::vector<E> Spec::*m, std::string mea
   return k;
 }
 
-}  // namespace capsflow::scene_detail
-
-namespace capsflow::scene_detail {
-
 // ---- the table (scene_keys.cpp) ----
 const Section<MeshSpec>& mesh_keys();
 const Section<WallSpec>& wall_keys();
@@ -275,5 +271,8 @@ void for_each_section(F&& f) {
   f(fluid_keys());
   f(output_keys());
 }
+
+// The accepted Ca_s, whether given (flow.ca_s) or derived from flow.ca_v and the thickness.
+const Range<double>& capillary_range();
 
 }  // namespace capsflow::scene_detail

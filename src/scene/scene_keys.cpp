@@ -92,7 +92,7 @@ Key<FlowSpec> flow_ca_v(std::string meaning) {
 
 // flow.ca_s: when given, ca_v follows from it; otherwise it follows from ca_v (scene_rules.cpp).
 Key<FlowSpec> flow_ca_s(std::string meaning) {
-  Key<FlowSpec> k = number("ca_s", &FlowSpec::ca_s, 0.0, above(0.0), std::move(meaning));
+  Key<FlowSpec> k = number("ca_s", &FlowSpec::ca_s, 0.0, capillary_range(), std::move(meaning));
   k.alternative = "ca_v";
   k.default_text = [] { return std::string("derived: ca_v/thickness"); };
   k.set_default = [](FlowSpec& f) {
@@ -137,6 +137,16 @@ Key<FlowSpec> flow_gradient(std::string meaning) {
 
 }  // namespace
 
+const Range<double>& capillary_range() {
+  // Ca_s is the elastic time μℓ/G_s over the flow time 1/γ̇. At 1e-6 the wall is stiff enough for
+  // 6.6e7 Heun steps to γ̇t = 2 at 1280 elements (`capsflow info`), and a run still stops cleanly;
+  // at 1e-300 the forces overflowed (NaN in the mass-matrix solve, exit 1). Above 1e6 the
+  // membrane's response is slower than any run can follow.
+  static const Range<double> r =
+      closed(1e-6, 1e6).because("Ca_s = μγ̇ℓ/G_s, the elastic over the flow time scale; beyond, one is a million times the other");
+  return r;
+}
+
 const Section<MeshSpec>& mesh_keys() {
   static const Section<MeshSpec> s{
       "mesh", &Scene::mesh,
@@ -175,7 +185,7 @@ const Section<FlowSpec>& flow_keys() {
   static const Section<FlowSpec> s{
       "flow", &Scene::flow,
       {choice("type", &FlowSpec::type, FlowType::PlanarHyperbolic, "imposed flow (`docs/conventions.md` §3)"),
-       flow_ca_v("Ca_v = μγ̇/G; then ca_s = ca_v/thickness"),
+       flow_ca_v("Ca_v = μγ̇/G; then ca_s = ca_v/thickness, which must lie in " + capillary_range().interval()),
        flow_ca_s("Ca_s = μγ̇ℓ/G_s; then ca_v = ca_s·thickness"),
        flow_gradient("L of v∞ = L x; required with `type = \"linear\"`, refused otherwise")}};
   return s;

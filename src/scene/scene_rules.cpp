@@ -1,5 +1,9 @@
 #include "scene_rules.hpp"
 
+#include <fmt/core.h>
+
+#include "key_table.hpp"
+
 namespace capsflow::scene_detail {
 
 void derive(Scene& s) {
@@ -18,6 +22,13 @@ void derive(Scene& s) {
 void check_rules(const TomlReader& r, const Scene& s) {
   const FlowSpec& f = s.flow;
   if (r.has("flow", "ca_v") && r.has("flow", "ca_s")) r.fail("flow", "ca_s", "give either flow.ca_s or flow.ca_v, not both");
+  if (f.ca_s_from_ca_v && !capillary_range().contains(f.ca_s)) {  // blamed on the key the user gave
+    const bool thickness = !r.has("flow", "ca_v") && r.has("wall", "thickness");
+    r.fail(thickness ? "wall" : "flow", thickness ? "thickness" : "ca_v",
+           fmt::format("ca_v = {} and thickness = {} give Ca_s = ca_v/thickness = {}, out of range: must be in {} ({})",
+                       number_text(f.ca_v), number_text(s.wall.thickness), number_text(f.ca_s),
+                       capillary_range().interval(), capillary_range().why));
+  }
   if (f.type == FlowType::Linear) {
     if (!r.has("flow", "gradient")) r.fail("flow", "gradient", "required when flow.type = \"linear\"");
   } else if (r.has("flow", "gradient")) {

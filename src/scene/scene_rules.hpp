@@ -10,7 +10,7 @@ namespace capsflow::scene_detail {
 // of a named flow type, the scheme of time.scheme = "auto", a sphere's aspect ratio.
 void derive(Scene& s);
 
-// The checks across keys (ca_s or ca_v, the gradient of each flow type); the message is placed at the
+// The checks across keys (ca_s or ca_v, the derived Ca_s, the gradient of each flow type); the message is placed at the
 // key the user gave, found by the reader.
 void check_rules(const TomlReader& r, const Scene& s);
 

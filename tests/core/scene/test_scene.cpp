@@ -269,3 +269,23 @@ TEST(SceneErrors, LongValuesAreAbbreviated) {
   }
   EXPECT_NE(cases[0].find("'xxxx"), std::string::npos) << cases[0].substr(0, 400);  // the start is kept
 }
+
+// Issue 27: flow.ca_s = 1e-300 was accepted and the run ended with "mass-matrix CG stopped at its
+// iteration cap (... relative residual -nan)". Ca_s, given or derived from ca_v and the thickness,
+// must lie in [1e-6, 1e6] (scene_keys.cpp: capillary_range, with the reason).
+TEST(SceneErrors, CapillaryNumberOutsideAMillionEitherWayIsRefused) {
+  const std::string tiny = error_of("", {"flow.ca_s=1e-300"});
+  EXPECT_EQ(tiny.rfind("--set flow.ca_s: 1e-300 is out of range: must be in [1e-6, 1e6] (Ca_s = μγ̇ℓ/G_s", 0), 0u) << tiny;
+  EXPECT_NE(error_of("[flow]\nca_s = 2e6\n").find("s.toml:2: flow.ca_s: 2e6 is out of range"), std::string::npos);
+  // Derived from ca_v: the message names both inputs and the Ca_s they give, at the key given.
+  const std::string cav = error_of("[flow]\nca_v = 1e-300\n");
+  EXPECT_NE(cav.find("s.toml:2: flow.ca_v: ca_v = 1e-300 and thickness = 0.03 give Ca_s = ca_v/thickness = 3.3333"),
+            std::string::npos) << cav;
+  EXPECT_NE(cav.find("out of range: must be in [1e-6, 1e6]"), std::string::npos) << cav;
+  // Only the thickness given: the default ca_v = 0.003 with thickness 1e-12 gives Ca_s = 3e9.
+  const std::string thin = error_of("[wall]\nthickness = 1e-12\n");
+  EXPECT_NE(thin.find("s.toml:2: wall.thickness: ca_v = 0.003 and thickness = 1e-12 give Ca_s"), std::string::npos) << thin;
+  // The ends themselves are accepted (closed range).
+  EXPECT_EQ(parse_scene("", "d", {"flow.ca_s=1e-6"}).flow.ca_s, 1e-6);
+  EXPECT_EQ(parse_scene("", "d", {"flow.ca_s=1e6"}).flow.ca_s, 1e6);
+}
