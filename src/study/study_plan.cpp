@@ -136,10 +136,13 @@ StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::
   for (const VaryAxis& a : vary)
     if (!keys.insert(a.key).second) fail("--vary " + a.key + ": the key is given twice");
 
-  auto load = [&](const std::vector<std::string>& o) {
-    return scene_path.empty() ? parse_scene(default_scene_toml(), kBuiltInSceneName, o) : load_scene(scene_path, o);
+  // Each override names the option that gave it, so that an error blames --vary or --levels.
+  auto load = [&](const std::vector<SceneOverride>& o) {
+    return scene_path.empty() ? parse_scene_with(default_scene_toml(), kBuiltInSceneName, o) : load_scene_with(scene_path, o);
   };
-  const Scene base = load(overrides);
+  std::vector<SceneOverride> set;
+  for (const std::string& o : overrides) set.push_back({o, "--set"});
+  const Scene base = load(set);
   if (!base.mesh.file.empty())
     fail("the scene reads its mesh from mesh.file (" + base.mesh.file + "): a study refines generated meshes (mesh.level)");
 
@@ -180,10 +183,11 @@ StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::
       if (!names.insert(v.name).second)
         fail("--vary: two variants would share the folder name '" + v.name + "' (values differing only in characters "
              "outside letters, digits and . + -)");
-      v.overrides = overrides;
-      for (const auto& [k, val] : v.settings) v.overrides.push_back(k + "=" + val);
-      v.overrides.push_back("mesh.level=" + std::to_string(level));
-      v.scene = load(v.overrides);
+      std::vector<SceneOverride> given = set;
+      for (const auto& [k, val] : v.settings) given.push_back({k + "=" + val, "--vary"});
+      given.push_back({"mesh.level=" + std::to_string(level), "--levels"});
+      for (const SceneOverride& o : given) v.overrides.push_back(o.assignment);
+      v.scene = load(given);
       v.elements = expected_counts(v.scene.mesh.base, level).elements;
       plan.variants.push_back(std::move(v));
     }

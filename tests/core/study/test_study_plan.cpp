@@ -96,3 +96,25 @@ TEST(StudyPlan, TwoSpellingsOfOneValueAreRefusedNamingBoth) {
   // Different values are kept, however close.
   EXPECT_EQ(make_study_plan("", {}, {1}, {parse_vary("flow.ca_s=0.1,0.1000001")}).families.size(), 2u);
 }
+
+// Issue 27: `study --levels -1,0` and `--vary foo.bar=1,2` said "--set mesh.level: ..." and
+// "--set foo.bar: ...", blaming a --set the user never gave. Each error now names the option.
+TEST(StudyPlan, SceneErrorsNameTheOptionThatGaveTheKey) {
+  auto error = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string levels = error([] { make_study_plan("", {}, parse_levels("-1,0"), {}); });
+  EXPECT_EQ(levels.rfind("--levels mesh.level: -1 is out of range: must be in [0, 9]", 0), 0u) << levels;
+  const std::string unknown = error([] { make_study_plan("", {}, {2}, {parse_vary("foo.bar=1,2")}); });
+  EXPECT_EQ(unknown.rfind("--vary foo.bar: unknown section [foo]", 0), 0u) << unknown;
+  const std::string value = error([] { make_study_plan("", {}, {2}, {parse_vary("fluid.geometry=flat,bent")}); });
+  EXPECT_EQ(value.rfind("--vary fluid.geometry: 'bent' is not one of", 0), 0u) << value;
+  // What --set gave is still blamed on --set.
+  const std::string set = error([] { make_study_plan("", {"fluid.verify_every=-2"}, {2}, {}); });
+  EXPECT_EQ(set.rfind("--set fluid.verify_every: -2 is out of range", 0), 0u) << set;
+}
