@@ -46,6 +46,7 @@ int info_command(const InfoOptions& opt) {
   std::string why;
   const FarFieldBackend b = choose_backend(scene.fluid.backend, mesh.num_elements(), mesh.num_nodes(), scene.fluid.tolerance, &why);
   fmt::print("back end        {} ({})\n", to_string(b), why);
+  if (const std::string note = unused_fmm_order_note(scene, b); !note.empty()) fmt::print("warning         {}\n", note);
   const StabilityEstimate se = stability_estimate(scene, st.edge_min);
   fmt::print("stable dt       {:.3e} at t = 0 for Heun (membrane {:.3e}, bending {:.3e}, flow cap {:.3e}; limited by {})\n",
              se.limit(), se.membrane, se.bending, se.flow, se.limiting());

@@ -271,6 +271,8 @@ void Simulation::setup() {
                ref_.num_nodes(), to_string(scene_.wall.model), shell::to_string(scene_.wall.law), to_string(scene_.flow.type),
                scene_.flow.ca_s);
   spdlog::info("boundary integral: {} ({})", to_string(dyn_->single_layer().backend()), dyn_->single_layer().backend_reason());
+  if (const std::string note = unused_fmm_order_note(scene_, dyn_->single_layer().backend()); !note.empty())
+    spdlog::warn("{}", note);
   spdlog::info("output: {}{}", folder_.string(), opt_.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st_.t));
   if (restart_.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path_.string());
   if (const std::string note = capillary_note(scene_); !note.empty()) spdlog::info("note: {}", note);

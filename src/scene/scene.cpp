@@ -196,6 +196,13 @@ std::string capillary_note(const Scene& s) {
                      s.flow.ca_s, s.flow.ca_v, s.wall.thickness);
 }
 
+std::string unused_fmm_order_note(const Scene& s, FarFieldBackend used) {
+  if (s.fluid.fmm_order == 0 || used != FarFieldBackend::Direct) return "";
+  return fmt::format("fluid.fmm_order = {} is not used: the far field is summed directly (fluid.backend = \"{}\"), "
+                     "which has no expansion order",
+                     s.fluid.fmm_order, to_string(s.fluid.backend));
+}
+
 nlohmann::json to_json(const Scene& s) {
   nlohmann::json j;
   for_each_section([&](const auto& sec) {

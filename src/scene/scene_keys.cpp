@@ -239,7 +239,8 @@ const Section<FluidSpec>& fluid_keys() {
        integer("fmm_order", &FluidSpec::fmm_order, bie.fmm_order,
                closed(lowest, highest).or_value(0).because("0: the order follows from fluid.tolerance"),
                "0: the FMM order follows from `tolerance` (`fmm/calibration.hpp`); otherwise that order is forced (to "
-               "measure accuracy against cost, or to show that `verify_every` catches a too-low order)"),
+               "measure accuracy against cost, or to show that `verify_every` catches a too-low order); the direct sum has "
+               "no order: with it a forced order is unused, and `info` and the run say so"),
        // 1e6 evaluations between checks is as good as none (and keeps the count an int).
        integer("verify_every", &FluidSpec::verify_every, bie.verify_every,
                closed(0, 1000000).because("right-hand-side evaluations between direct checks; 0 = off"),

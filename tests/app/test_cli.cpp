@@ -425,3 +425,16 @@ TEST(Cli, InfoCountsTheStepsOutputTimesForceAndNotesTheCapillaryNumber) {
   ASSERT_EQ(g.code, 0) << g.err;
   EXPECT_NE(g.out.find("note: Ca_s = 0.05 follows from flow.ca_v"), std::string::npos) << g.out;
 }
+
+// Issue 27: a forced fluid.fmm_order with the direct back end was silently ignored; `info` and the
+// run now warn (docs §2.6).
+TEST(Cli, AForcedFmmOrderThatTheDirectSumIgnoresIsWarnedAbout) {
+  TempDir d;
+  const std::string set = "--set mesh.level=1 --set fluid.backend=direct --set fluid.fmm_order=8";
+  const Result i = run("info " + set, d.path);
+  ASSERT_EQ(i.code, 0) << i.err;
+  EXPECT_NE(i.out.find("warning         fluid.fmm_order = 8 is not used"), std::string::npos) << i.out;
+  const Result r = run(std::string("run ") + kTiny + " " + set + " --set time.t_end=0.01 -o " + (d.path / "o").string(), d.path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE((r.out + r.err).find("fluid.fmm_order = 8 is not used"), std::string::npos) << r.out << r.err;
+}

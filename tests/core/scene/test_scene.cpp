@@ -289,3 +289,17 @@ TEST(SceneErrors, CapillaryNumberOutsideAMillionEitherWayIsRefused) {
   EXPECT_EQ(parse_scene("", "d", {"flow.ca_s=1e-6"}).flow.ca_s, 1e-6);
   EXPECT_EQ(parse_scene("", "d", {"flow.ca_s=1e6"}).flow.ca_s, 1e6);
 }
+
+// Issue 27: fluid.fmm_order was silently ignored when the far field is summed directly. The note
+// says so whenever an order is forced and the back end used is the direct sum (asked for, or
+// chosen by "auto" for a small mesh); it is a warning, not an error (docs §2.6).
+TEST(Scene, AForcedFmmOrderUnusedByTheDirectSumIsNoted) {
+  const Scene forced = parse_scene("", "d", {"fluid.fmm_order=8", "fluid.backend=direct"});
+  const std::string note = unused_fmm_order_note(forced, FarFieldBackend::Direct);
+  EXPECT_NE(note.find("fluid.fmm_order = 8 is not used: the far field is summed directly (fluid.backend = \"direct\")"),
+            std::string::npos) << note;
+  const Scene automatic = parse_scene("", "d", {"fluid.fmm_order=8"});
+  EXPECT_NE(unused_fmm_order_note(automatic, FarFieldBackend::Direct).find("(fluid.backend = \"auto\")"), std::string::npos);
+  EXPECT_EQ(unused_fmm_order_note(automatic, FarFieldBackend::Fmm), "");           // the FMM uses it
+  EXPECT_EQ(unused_fmm_order_note(parse_scene("", "d"), FarFieldBackend::Direct), "");  // nothing forced
+}

@@ -125,6 +125,12 @@ Scene load_scene_with(const std::string& path, const std::vector<SceneOverride>&
 // moves with the thickness (printed by `capsflow info` and at the start of a run); else "".
 std::string capillary_note(const Scene& scene);
 
+// When fluid.fmm_order forces an FMM order but the far field is summed directly (fluid.backend =
+// "direct", or "auto" choosing it for a small mesh), a one-line warning that the order is not used
+// (printed by `capsflow info` and at the start of a run); else "". A warning, not an error: a study
+// may vary the back end with one --set of the order.
+std::string unused_fmm_order_note(const Scene& scene, FarFieldBackend used);
+
 nlohmann::json to_json(const Scene& scene);
 // Canonical TOML of the resolved scene (every key explicit), for output and restarts.
 std::string to_toml(const Scene& scene);
