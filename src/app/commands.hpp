@@ -12,6 +12,7 @@ struct InfoOptions {
   // automatic up to kProbeElements elements, forced by --probe.
   bool probe = false;
   static constexpr long kProbeElements = 20480;
+  bool keys = false;  // print the scene keys (the tables of docs/scene-and-output.md §2) instead
 };
 int info_command(const InfoOptions& opt);
 

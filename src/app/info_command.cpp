@@ -15,11 +15,21 @@
 #include "capsflow/core/dynamics/capsule_dynamics.hpp"
 #include "capsflow/core/dynamics/rkc.hpp"
 #include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/scene/scene_keys.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {
 
 int info_command(const InfoOptions& opt) {
+  if (opt.keys) {  // the key table as docs/scene-and-output.md §2 has it, one section after the other
+    std::string last;
+    for (const SceneKeyDoc& k : scene_key_docs()) {
+      if (k.section == last) continue;
+      fmt::print("{}[{}]\n{}", last.empty() ? "" : "\n", k.section, scene_key_table(k.section));
+      last = k.section;
+    }
+    return 0;
+  }
   const Scene scene = opt.scene_path.empty() ? parse_scene(default_scene_toml(), "<built-in default>", opt.overrides)
                                              : load_scene(opt.scene_path, opt.overrides);
   fmt::print("# resolved scene ({})\n{}\n\n", scene.source, to_toml(scene));

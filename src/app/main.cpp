@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   // file that follows them (`run --set a=b SCENE` ran the default scene with SCENE as an override).
   info_cmd->add_option("--set", info.overrides, "override a scene key, e.g. --set mesh.level=5 (repeatable)")
       ->allow_extra_args(false);
+  info_cmd->add_flag("--keys", info.keys, "print every scene key: type, default, accepted values, meaning (markdown)");
   info_cmd->add_flag("--probe", info.probe,
                      "evaluate the right-hand side (timing, spectral radius) also above 20 480 elements");
 

@@ -44,3 +44,17 @@ TEST(DocsOutput, CsvColumnsAreListedInTheOrderOfTheFile) {
   for (std::string c; std::getline(hs, c, ',');) columns.push_back(c);
   EXPECT_EQ(documented_columns(), columns);
 }
+
+// `capsflow info --keys` prints the key table; the docs' tables of §2.2–2.7 are pasted from it
+// (tests/core/scene/test_scene_keys.cpp checks them against the table itself).
+TEST(DocsOutput, InfoKeysPrintsTheDocsKeyTables) {
+  TempDir d("docs");
+  const Result r = capsflow("info --keys", d.path);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string docs = slurp(fs::path(CAPSFLOW_SOURCE_DIR) / "docs" / "scene-and-output.md");
+  for (const std::string section : {"mesh", "wall", "flow", "time", "fluid", "output"}) {
+    const auto h = docs.find("`[" + section + "]`\n"), a = docs.find("\n|", h) + 1, b = docs.find("\n\n", a);
+    const std::string table = docs.substr(a, b - a + 1);
+    EXPECT_NE(r.out.find("[" + section + "]\n" + table), std::string::npos) << section << ":\n" << table << "\nin:\n" << r.out;
+  }
+}
