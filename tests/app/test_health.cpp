@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "capsflow/core/dynamics/stability.hpp"
+#include "capsflow/core/stepping/stability.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
@@ -159,7 +159,7 @@ TEST(Health, AFixedStepAboveTheEstimateWarnsAndStopsBeforeTheVolumeDriftsOrNaN) 
   const double v = capsflow::enclosed_volume(capsflow::SurfaceMesh{ck.positions, ck.triangles});
   const double v0 = capsflow::enclosed_volume(capsflow::SurfaceMesh{ck.reference_positions, ck.triangles});
   EXPECT_LT(std::abs(v / v0 - 1), 1e-3);
-  // Caught by the geometric growth of the drift (dynamics/instability_watch.hpp), not by the 1e-3
+  // Caught by the geometric growth of the drift (health/instability_watch.hpp), not by the 1e-3
   // runaway check: measured 7.8e-6 at the stop (2026-11-30); 1e-4 leaves 10× on either side.
   EXPECT_NE(slurp(out.string() + ".log").find("growing"), std::string::npos);
   EXPECT_LT(std::abs(v / v0 - 1), 1e-4);

@@ -8,7 +8,7 @@
 #include "capsflow/core/geometry/element_quality.hpp"
 #include "capsflow/core/geometry/surface_roughness.hpp"
 #include "capsflow/core/mesh/generation.hpp"
-#include "capsflow/core/mesh/umbrella.hpp"
+#include "capsflow/core/geometry/umbrella.hpp"
 
 using namespace capsflow;
 

@@ -11,7 +11,7 @@
 #include <array>
 #include <vector>
 
-#include "capsflow/core/mesh/umbrella.hpp"
+#include "capsflow/core/geometry/umbrella.hpp"
 #include "capsflow/core/types.hpp"
 
 namespace capsflow {

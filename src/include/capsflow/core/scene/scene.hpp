@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "capsflow/core/bie/backend_choice.hpp"
-#include "capsflow/core/dynamics/health_conditions.hpp"
-#include "capsflow/core/dynamics/time_scheme.hpp"
+#include "capsflow/core/health/health_conditions.hpp"
+#include "capsflow/core/stepping/time_scheme.hpp"
 #include "capsflow/core/mesh/generation.hpp"
 #include "capsflow/core/scene/options.hpp"
 #include "capsflow/core/types.hpp"

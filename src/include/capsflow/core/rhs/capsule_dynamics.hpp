@@ -1,0 +1,72 @@
+#pragma once
+// The right-hand side of the capsule problem: positions x → node velocities v = dx/dt, through
+// the stage pipeline of the paper (docs/time-integration.md §5.1):
+//   wall (GSMB: rotation solve, warm-started) → R_s → M(x) q = R_s → v = v∞(x) − S[q].
+// With fluid.volume_correction, v ← v − c n_i with c chosen so that the discrete flux
+// Σ_e A_e n_e·(v0+v1+v2)/3 — exactly dV/dt of the polyhedron — is zero (volume_constraint.hpp):
+// the O(h²) flux error of the P1 boundary integral (docs/time-integration.md §5.3) no longer
+// accumulates into volume drift.
+// Rotations are a slave variable (argmin of the bending + shear energy at given x): they are not
+// integrated in time. Integrators (stepping/heun.hpp, stepping/rkc.hpp) only call velocity().
+//
+// Inner solvers never fail silently: a rotation Newton solve that does not converge is retried
+// once from the nodal normals (counted in RhsCounters::rotation_fresh_starts); if that fails too,
+// or the mass-matrix CG stops at its iteration cap, or the velocity is not finite, velocity()
+// throws SolverFailure with a one-line description.
+#include <memory>
+#include <stdexcept>
+
+#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/scene/scene.hpp"
+#include "capsflow/shell/load_recovery.hpp"
+#include "capsflow/shell/wall.hpp"
+
+namespace capsflow {
+
+// What the inner solvers of the right-hand side did, summed over evaluations.
+struct RhsCounters {
+  long evaluations = 0;
+  long newton_iterations = 0, cg_iterations = 0, mass_cg_iterations = 0;
+  long rotation_fresh_starts = 0;  // Newton solves retried from the nodal normals
+};
+
+class SolverFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class CapsuleDynamics {
+ public:
+  // The wall is the scene's (rhs/wall_factory.hpp) unless one is given (tests).
+  CapsuleDynamics(const Scene& scene, const SurfaceMesh& reference, int threads = 0,
+                  std::unique_ptr<shell::Wall> wall = nullptr);
+
+  // v(x) and, as by-products, the load q and R_s of this evaluation. Throws SolverFailure.
+  void velocity(const Points& x, Points& v);
+
+  const Points& load() const { return q_; }
+  const Points& internal_forces() const { return R_; }
+  shell::Wall& wall() { return *wall_; }
+  const shell::Wall& wall() const { return *wall_; }
+  const SingleLayer& single_layer() const { return bie_; }
+  // Seconds per phase, the boundary integral's phases included.
+  PhaseTimes times() const;
+  const RhsCounters& counters() const { return counters_; }
+  const shell::WallStats& last_wall_stats() const { return last_stats_; }
+  const Mat3& gradient() const { return L_; }
+
+ private:
+  Mat3 L_;
+  bool volume_correction_;
+  Triangles tri_;
+  std::unique_ptr<shell::Wall> wall_;
+  shell::LoadRecovery mass_;
+  SingleLayer bie_;
+  Points R_, q_, u_, nodal_area_normal_;  // scratch, reused across calls
+  PhaseTimes times_;                      // wall, load, other (the BIE keeps its own)
+  RhsCounters counters_;
+  shell::WallStats last_stats_;
+};
+
+}  // namespace capsflow

@@ -1,0 +1,95 @@
+#pragma once
+// Damped second-order Runge–Kutta–Chebyshev (RKC2) with local error control: the default time
+// integrator (docs/time-integration.md §5.7). Why RKC2 and not ROCK2: both have stability
+// intervals growing like s² (0.65 s² and 0.81 s²); RKC2's coefficients are closed-form (no stored
+// tables), it has a free embedded error estimate, and the capsule Jacobian's spectrum is real up to
+// the O(γ̇) flow terms, where ROCK2's better damping of imaginary parts buys nothing.
+//
+// A step of size τ from y_n with F_n = F(y_n) (kept from the previous step: first same as last):
+//   1. ρ: the spectral radius (SpectralRadiusEstimator, × margin), refreshed every
+//      `rho_refresh_steps` accepted steps and after a rejection;
+//   2. s: the fewest stages with β(s) ≥ τ ρ (RkcCoefficients::stages_for);
+//   3. the s stages, the optional projection of y_{n+1} onto an invariant (the capsule's volume,
+//      rhs/volume_constraint.hpp), then F_{n+1} = F(y_{n+1});
+//   4. error: Est = [12 (y_n − y_{n+1}) + 6 τ (F_n + F_{n+1})] / 15 (Sommeijer et al. 1998), measured
+//      as the RMS over nodes of |Est_i| in units of ℓ, against `tolerance`; the step is accepted
+//      when err = RMS/tolerance ≤ 1, and the next τ follows from err^(−1/3) (local error O(τ³)).
+// With error_control = false every step is accepted at the given τ (stages still from ρ).
+#include <functional>
+#include <utility>
+#include <nlohmann/json_fwd.hpp>
+
+#include "capsflow/core/stepping/rkc_coefficients.hpp"
+#include "capsflow/core/stepping/spectral_radius.hpp"
+#include "capsflow/core/types.hpp"
+
+namespace capsflow {
+
+class Rkc {
+ public:
+  using Rhs = std::function<void(const Points& x, Points& v)>;
+  struct Options {
+    double tolerance = 1e-4;      // local error per step, RMS over nodes, in units of ℓ
+    bool error_control = true;
+    double rho_margin = 1.2;      // ρ = margin × power-iteration estimate (it converges from below)
+    int rho_refresh_steps = 10;   // RKC refreshes every 25 steps; ours are long (see docs)
+    int max_stages = 250;         // round-off in the Chebyshev recurrence grows like s²·ε
+    double damping = RkcCoefficients::kDefaultDamping;
+    // The analytic bound at a state (stepping/stability.hpp, from the current shortest edge; may be
+    // empty). It is the fallback when the power iteration does not converge, and between refreshes
+    // ρ follows its growth: ρ(x) = ρ_refresh × max(1, bound(x)/bound(x_refresh)), so a mesh that
+    // shrinks is not stepped with a stale ρ.
+    std::function<double(const Points&)> analytic_rho;
+    std::function<void(Points&)> project;  // applied to y_{n+1} before F(y_{n+1}); may be empty
+  };
+  struct StepReport {
+    bool accepted = false;
+    double tau = 0;        // the step attempted (may be less than asked: stage cap)
+    double error = 0;      // err (≤ 1 accepted); 0 without error control
+    int stages = 0;
+    long evaluations = 0;  // right-hand-side evaluations of this attempt, ρ estimate included
+  };
+
+  explicit Rkc(Options opt)
+      : opt_(std::move(opt)), beta_max_(RkcCoefficients::stability_interval(opt_.max_stages, opt_.damping)) {}
+
+  // One attempt of size tau from x. Accepted: x ← y_{n+1}. Rejected: x unchanged.
+  StepReport step(const Rhs& f, Points& x, double tau);
+  // The controller's proposal for the next step (before clipping to output times).
+  double proposed_step(const Rhs& f, const Points& x);
+
+  double spectral_radius() const { return rho_; }  // margin included; 0 before the first estimate
+  long rho_evaluations() const { return rho_evaluations_; }
+  // F at the current state (valid after a step or a restart); the right-hand side was last
+  // evaluated there, so loads, forces and energies it holds belong to the current state.
+  const Points& velocity() const { return f0_; }
+  bool has_velocity() const { return f0_valid_; }
+  void forget_velocity() { f0_valid_ = false; }
+  const Options& options() const { return opt_; }
+
+  // Everything a restart needs to continue bit for bit: scalars as JSON, F_n and the power
+  // iteration's direction as matrices.
+  nlohmann::json scalar_state() const;
+  void set_scalar_state(const nlohmann::json& j);
+  Eigen::MatrixXd matrix_state() const;  // [F_n | direction] (N × 6), empty before the first step
+  void set_matrix_state(const Eigen::MatrixXd& m);
+
+ private:
+  void refresh_rho(const Rhs& f, const Points& x);
+  double rms(const Points& v) const;
+
+  Options opt_;
+  double beta_max_;      // β(max_stages): the longest step the stage cap allows is β_max/ρ
+  RkcCoefficients k_;    // of the last step; rebuilt only when the stage count changes
+  SpectralRadiusEstimator power_;
+  double rho_ = 0, rho_refresh_ = 0, analytic_at_refresh_ = 0;
+  long rho_evaluations_ = 0;
+  int steps_since_rho_ = 0;
+  bool rho_stale_ = true;
+  Points f0_, f1_, y0_, yjm1_, yjm2_, yj_, fj_, est_;
+  bool f0_valid_ = false;
+  double tau_next_ = 0, tau_prev_ = 0, err_prev_ = 0;
+  bool last_rejected_ = false;
+};
+
+}  // namespace capsflow

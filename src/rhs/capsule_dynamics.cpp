@@ -1,0 +1,75 @@
+#include "capsflow/core/rhs/capsule_dynamics.hpp"
+
+#include <fmt/core.h>
+
+#include "capsflow/core/rhs/volume_constraint.hpp"
+#include "capsflow/core/rhs/wall_factory.hpp"
+
+namespace capsflow {
+
+namespace {
+SingleLayerOptions bie_options(const Scene& s, int threads) {
+  SingleLayerOptions o;
+  o.backend = s.fluid.backend;
+  o.tolerance = s.fluid.tolerance;
+  o.geometry = s.fluid.geometry;
+  o.fmm_order = s.fluid.fmm_order;
+  o.verify_every = s.fluid.verify_every;
+  o.threads = threads;
+  return o;
+}
+}  // namespace
+
+CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& reference, int threads,
+                                 std::unique_ptr<shell::Wall> wall)
+    : L_(scene.flow.gradient),
+      volume_correction_(scene.fluid.volume_correction),
+      tri_(reference.triangles),
+      wall_(wall ? std::move(wall) : make_wall(scene, reference)),
+      mass_(reference.triangles, reference.num_nodes()),
+      bie_(reference.triangles, reference.num_nodes(), bie_options(scene, threads)) {}
+
+PhaseTimes CapsuleDynamics::times() const {
+  PhaseTimes t = times_;
+  t += bie_.times();
+  return t;
+}
+
+void CapsuleDynamics::velocity(const Points& x, Points& v) {
+  Stopwatch clock;
+  for (int attempt = 0;; ++attempt) {
+    wall_->forces(x, R_, &last_stats_);
+    counters_.newton_iterations += last_stats_.newton_iterations;
+    counters_.cg_iterations += last_stats_.cg_iterations;
+    if (last_stats_.converged) break;
+    if (attempt == 1) {
+      clock.lap(times_, Phase::Wall);
+      throw SolverFailure(fmt::format("rotation Newton did not converge (residual {:.1e} rad after {} iterations, "
+                                      "also from a fresh start)", last_stats_.residual, last_stats_.newton_iterations));
+    }
+    ++counters_.rotation_fresh_starts;
+    wall_->restart_rotations(x);
+  }
+  clock.lap(times_, Phase::Wall);
+
+  counters_.mass_cg_iterations += mass_.solve(x, R_, q_);
+  clock.lap(times_, Phase::Load);
+  if (!mass_.last_converged())
+    throw SolverFailure(fmt::format("mass-matrix CG stopped at its iteration cap ({} iterations, relative residual {:.1e})",
+                                    shell::LoadRecovery::kMaxIterations, mass_.last_relative_residual()));
+
+  bie_.apply(x, q_, u_);
+
+  clock.restart();
+  v.noalias() = x * L_.transpose() - u_;  // v = v∞ − S[q], v∞ = L x (paper Eq. 34)
+  if (volume_correction_) {
+    volume_gradient(x, tri_, nodal_area_normal_);
+    remove_normal_flux(nodal_area_normal_, v);
+  }
+  clock.lap(times_, Phase::Other);
+  ++counters_.evaluations;
+  if (!v.allFinite()) throw SolverFailure("non-finite velocity");
+}
+
+
+}  // namespace capsflow
