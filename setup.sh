@@ -14,7 +14,8 @@ shift
 
 packages=(cmake ninja-build g++ pkg-config ccache git
           libeigen3-dev libfftw3-dev libhdf5-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
-          libspdlog-dev libfmt-dev libgtest-dev python3-matplotlib python3-numpy python3-h5py)
+          libspdlog-dev libfmt-dev libgtest-dev python3-matplotlib python3-numpy python3-h5py
+          python3-dev python3-pybind11 python3-pytest)
 # The Slurm tests run a one-node cluster on localhost (tests/slurm/local_cluster.sh, docs/testing.md).
 if [[ $mode == test ]]; then packages+=(slurm-wlm munge); fi
 missing=()
