@@ -1,6 +1,7 @@
 """capsflow: an elastic capsule freely suspended in Stokes flow, from Python (docs/python.md).
 
     capsflow.fmm                      Stokeslet sums on numpy arrays (FMM and direct)
+    capsflow.Scene                    a scene: from a file, TOML text or a dict; set(key, value); to_toml()
     capsflow.read_run(folder)         a run's output: summary, time series, steps (numpy)
     capsflow.read_study(folder)       a convergence study's reports
 
@@ -16,6 +17,7 @@ _os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 from . import _core  # noqa: E402  (after the environment above)
 from . import fmm  # noqa: E402
 from .results import RunFolder, StudyFolder, read_run, read_study  # noqa: E402
+from .scene import Scene  # noqa: E402
 
 __version__ = _core.__version__
-__all__ = ["fmm", "read_run", "read_study", "RunFolder", "StudyFolder", "__version__"]
+__all__ = ["fmm", "Scene", "read_run", "read_study", "RunFolder", "StudyFolder", "__version__"]

@@ -10,4 +10,5 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = capsflow::version_string();
   capsflow::python::bind_errors(m);
   capsflow::python::bind_fmm(m);
+  capsflow::python::bind_scene(m);
 }

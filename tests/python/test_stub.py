@@ -16,7 +16,7 @@ def stub_names() -> dict:
         if isinstance(node, ast.FunctionDef):
             names[node.name] = None
         elif isinstance(node, ast.ClassDef):
-            names[node.name] = {n.name for n in node.body if isinstance(n, ast.FunctionDef)}
+            names[node.name] = {n.name for n in node.body if isinstance(n, ast.FunctionDef) and not n.name.startswith("_")}
         elif isinstance(node, ast.AnnAssign) and not node.target.id.startswith("_F"):
             names[node.target.id] = None
     return names
@@ -28,7 +28,7 @@ def module_names() -> dict:
         if name.startswith("__") and name != "__version__":
             continue
         if inspect.isclass(value):
-            names[name] = {m for m in vars(value) if not m.startswith("_") or m == "__init__"}
+            names[name] = {m for m in vars(value) if not m.startswith("_")}
         else:
             names[name] = None
     return names
@@ -40,7 +40,7 @@ def test_the_stub_matches_the_module():
 
 def test_every_public_name_has_a_docstring():
     missing = []
-    for module in (capsflow, capsflow.fmm, capsflow.results):
+    for module in (capsflow, capsflow.fmm, capsflow.results, capsflow.scene):
         for name in getattr(module, "__all__"):
             value = getattr(module, name)
             if callable(value) and not inspect.getdoc(value):

@@ -1,0 +1,96 @@
+"""capsflow.Scene against the command line: the same resolved scene as `capsflow info`, and set()
+refusing what --set refuses with the same one-line message."""
+import numpy as np
+import pytest
+
+import capsflow
+from conftest import SOURCE_DIR, run_cli
+
+
+def cli_resolved_toml(exe, *args) -> str:
+    """The resolved scene `capsflow info` prints: the lines after '# resolved scene (...)' up to
+    the next '# ' heading."""
+    out = run_cli(exe, "info", *args).stdout
+    block = out.split("\n", 1)[1]
+    return block.split("\n# ", 1)[0]
+
+
+def cli_error(exe, *args) -> str:
+    """The one-line message of `capsflow info ARGS` exiting 1 ('capsflow: error: ' removed)."""
+    p = run_cli(exe, "info", *args, check=False)
+    assert p.returncode == 1, p.stdout + p.stderr
+    line = p.stderr.strip()
+    assert line.startswith("capsflow: error: ") and "\n" not in line
+    return line[len("capsflow: error: "):]
+
+
+def test_the_default_scene_is_the_command_lines(capsflow_exe):
+    assert capsflow.Scene().to_toml().strip() == cli_resolved_toml(capsflow_exe).strip()
+    assert capsflow.Scene().source == "<built-in default>"
+
+
+def test_a_file_with_sets_is_resolved_as_by_the_command_line(capsflow_exe):
+    path = SOURCE_DIR / "scenes" / "sphere_simple_shear.toml"
+    scene = capsflow.Scene(path).set("mesh.level", 2).set("wall.law", "nh").set("time.stop_on", ["element_quality"])
+    cli = cli_resolved_toml(capsflow_exe, path, "--set", "mesh.level=2", "--set", "wall.law=nh",
+                            "--set", 'time.stop_on=["element_quality"]')
+    assert scene.to_toml().strip() == cli.strip()
+    assert scene.get("mesh.level") == 2 and scene.get("wall.law") == "nh"
+    assert scene.overrides == ["mesh.level=2", 'wall.law="nh"', 'time.stop_on=["element_quality"]']
+
+
+@pytest.mark.parametrize("key, value, cli_value", [
+    ("mesh.level", 12, "12"),
+    ("mesh.levle", 3, "3"),
+    ("meshes.level", 3, "3"),
+    ("wall.law", "rubber", "rubber"),
+    ("time.t_end", "soon", "soon"),
+    ("time.t_end", -1.0, "-1.0"),
+    ("flow.ca_s", float("inf"), "inf"),
+    ("time.stop_on", ["no_such_condition"], '["no_such_condition"]'),
+    ("level", 3, "3"),
+])
+def test_bad_sets_raise_the_command_lines_message(capsflow_exe, key, value, cli_value):
+    scene = capsflow.Scene()
+    before = scene.to_toml()
+    with pytest.raises(ValueError) as e:
+        scene.set(key, value)
+    assert str(e.value) == cli_error(capsflow_exe, "--set", f"{key}={cli_value}")
+    assert scene.to_toml() == before and scene.overrides == []  # unchanged
+
+
+def test_python_values_become_toml_values():
+    scene = capsflow.Scene()
+    scene.set("time.stop_at_steady", True).set("flow.ca_s", np.float64(0.25)).set("mesh.level", np.int64(2))
+    scene.set("output.fields", ["velocity", "load"]).set("time.dt", "auto")
+    assert scene.get("time.stop_at_steady") is True
+    assert scene.get("flow.ca_s") == 0.25 and scene.get("mesh.level") == 2
+    assert scene.get("output.fields") == ["velocity", "load"]
+    with pytest.raises(TypeError, match="a scene value must be a bool, number, string or list of them, got dict"):
+        scene.set("mesh.level", {"a": 1})
+
+
+def test_a_dict_gives_the_keys_it_names_and_defaults_for_the_rest():
+    scene = capsflow.Scene({"mesh": {"level": 2}, "flow": {"type": "simple_shear", "ca_s": 0.3}})
+    assert scene.get("mesh.level") == 2 and scene.get("flow.ca_s") == 0.3 and scene.get("flow.type") == "simple_shear"
+    assert scene.source == "<dict>"
+    # the rest as in a file that gives only these keys
+    text = '[mesh]\nlevel = 2\n[flow]\ntype = "simple_shear"\nca_s = 0.3\n'
+    assert scene.to_dict() == capsflow.Scene.from_toml(text).to_dict()
+    with pytest.raises(ValueError, match=r"<dict>:2: mesh\.levle: unknown key"):
+        capsflow.Scene({"mesh": {"levle": 2}})
+    with pytest.raises(TypeError, match=r"scene dict: \[mesh\] must be a dict of keys, got int"):
+        capsflow.Scene({"mesh": 2})
+
+
+def test_files_that_cannot_be_read_are_errors(tmp_path):
+    with pytest.raises(ValueError, match="nowhere.toml: scene file not found"):
+        capsflow.Scene(tmp_path / "nowhere.toml")
+    with pytest.raises(TypeError, match="TOML text: Scene.from_toml"):
+        capsflow.Scene(42)
+
+
+def test_copies_are_independent():
+    a = capsflow.Scene()
+    b = a.copy().set("mesh.level", 2)
+    assert a.get("mesh.level") == 3 and b.get("mesh.level") == 2
