@@ -54,6 +54,12 @@ class Scene:
             return _core.load_scene(what, overrides)
         return _core.parse_scene(what, name, overrides)
 
+    @staticmethod
+    def keys() -> list[dict]:
+        """Every scene key as a dict: 'key' ('mesh.level'), 'type', 'default', 'accepted', 'meaning'
+        (markdown, as the tables of docs/scene-and-output.md §2 and `capsflow info --keys`)."""
+        return _core.scene_key_docs()
+
     def set(self, key: str, value) -> "Scene":
         """Set `key` ('section.key') to `value` (bool, number, string or list) as --set does;
         returns the scene, so calls chain. ValueError (the scene unchanged) for a bad key or value."""

@@ -8,6 +8,7 @@
 
 #include "bindings.hpp"
 #include "capsflow/core/scene/scene.hpp"
+#include "capsflow/core/scene/scene_keys.hpp"
 
 namespace py = pybind11;
 
@@ -25,6 +26,17 @@ void bind_scene(py::module_& m) {
   m.def("load_scene", &load_scene, py::arg("path"), py::arg("overrides"),
         "Read a scene file (relative mesh.file against its folder), apply overrides, validate, resolve.");
   m.def("default_scene_toml", &default_scene_toml, "The built-in default scene's TOML text.");
+  m.def(
+      "scene_key_docs",
+      [] {
+        py::list keys;
+        for (const SceneKeyDoc& k : scene_key_docs())
+          keys.append(py::dict(py::arg("key") = k.section + "." + k.name, py::arg("type") = k.type,
+                               py::arg("default") = k.default_value, py::arg("accepted") = k.accepted,
+                               py::arg("meaning") = k.meaning));
+        return keys;
+      },
+      "Every scene key: key, type, default, accepted, meaning (markdown, as docs/scene-and-output.md §2).");
 }
 
 }  // namespace capsflow::python

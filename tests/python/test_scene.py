@@ -94,3 +94,11 @@ def test_copies_are_independent():
     a = capsflow.Scene()
     b = a.copy().set("mesh.level", 2)
     assert a.get("mesh.level") == 3 and b.get("mesh.level") == 2
+
+
+def test_every_key_is_documented_and_resolved():
+    keys = capsflow.Scene.keys()
+    resolved = capsflow.Scene().to_dict()
+    # the key table and the resolved scene name the same keys (a key missing from either is a bug)
+    assert {k["key"] for k in keys} == {f"{s}.{k}" for s, d in resolved.items() for k in d}
+    assert all(k["meaning"] and k["type"] for k in keys)
