@@ -1,0 +1,84 @@
+// capsflow with a viscosity ratio λ ≠ 1 against the small-deformation theory (docs/small-deformation.md
+// §5): the tensionless-drop velocity at t = 0 and the transient D(t), whose time scale grows
+// linearly with λ while its steady value does not depend on λ. Skipped, with a message, until the
+// scene accepts `fluid.viscosity_ratio` (issue 24). A few CPU minutes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "capsflow/core/theory/small_deformation.hpp"
+#include "capsule_run.hpp"
+
+using namespace capsflow;
+
+namespace {
+bool scene_has_viscosity_ratio() {
+  try {
+    parse_scene(default_scene_toml(), "probe", {"fluid.viscosity_ratio=2"});
+    return true;
+  } catch (const SceneError&) {
+    return false;
+  }
+}
+#define SKIP_WITHOUT_VISCOSITY_RATIO()                                                   \
+  if (!scene_has_viscosity_ratio()) GTEST_SKIP() << "fluid.viscosity_ratio is not a scene key yet"
+}  // namespace
+
+TEST(CapsuleViscosityRatioSlow, UnloadedSphereMovesLikeATensionlessDrop) {
+  SKIP_WITHOUT_VISCOSITY_RATIO();
+  // At t = 0 the membrane carries no load: the exact surface velocity is Ω×x + 5/(2λ+3) E x, for
+  // any λ (docs/small-deformation.md §5.2), a test of the second-kind solve alone.
+  for (const char* lambda : {"0.2", "5"})
+    for (const char* flow : {"planar_hyperbolic", "simple_shear"}) {
+      const Scene s = parse_scene(default_scene_toml(), "drop",
+                                  {"mesh.level=3", "mesh.shape=\"sphere\"", "wall.model=\"membrane\"",
+                                   "fluid.backend=\"direct\"", std::string("flow.type=\"") + flow + "\"",
+                                   std::string("fluid.viscosity_ratio=") + lambda});
+      const SurfaceMesh ref = make_reference_mesh(s.mesh);
+      CapsuleDynamics dyn(s, ref);
+      Points v;
+      dyn.velocity(ref.vertices, v);
+      double err = 0, scale = 0;
+      for (Eigen::Index i = 0; i < ref.vertices.rows(); ++i) {
+        const Vec3 x = ref.vertices.row(i).transpose();
+        const Vec3 exact = theory::initial_surface_velocity(s.flow.gradient, std::atof(lambda), x);
+        err = std::max(err, (v.row(i).transpose() - exact).norm());
+        scale = std::max(scale, exact.norm());
+      }
+      std::printf("λ = %s, %s, level 3: max |v − v_drop| / max |v_drop| = %.3e\n", lambda, flow, err / scale);
+      // The flat-facet operators' O(h²) error at level 3 (the single layer's on the sphere is
+      // ~1e-3, perf/RESULTS.md §3); 2e-2 is a bound to tighten once measured. A solve that ignored
+      // λ would be off by |1 − 5/(2λ + 3)| ≥ 0.32.
+      EXPECT_LT(err / scale, 2e-2) << "λ = " << lambda << ", " << flow;
+    }
+}
+
+TEST(CapsuleViscosityRatioSlow, TransientFollowsTheTheory) {
+  SKIP_WITHOUT_VISCOSITY_RATIO();
+  // NH membrane sphere, level 3, Ca_s = 0.005; D at t/τ = 0.5, 1, 2 with τ the theory's
+  // (2.65 Ca at λ = 0.2, 11.0 Ca at λ = 5).
+  struct Case {
+    const char* lambda;
+    const char* flow;
+  };
+  for (const Case c : {Case{"0.2", "planar_hyperbolic"}, Case{"5", "planar_hyperbolic"}, Case{"5", "simple_shear"}}) {
+    const double lambda = std::atof(c.lambda);
+    const theory::SmallDeformation th(1 / 0.005, 0.5, lambda);
+    const double tau = th.relaxation_time();
+    const auto run = test::run_capsule({"mesh.level=3", "wall.law=\"nh\"", "flow.ca_s=0.005",
+                                        std::string("flow.type=\"") + c.flow + "\"",
+                                        std::string("fluid.viscosity_ratio=") + c.lambda},
+                                       {0.5 * tau, tau, 2 * tau});
+    const Mat3& L = run.scene.flow.gradient;
+    for (const auto& s : run.samples) {
+      const InPlaneShape e = th.in_plane_shape(L, flow_plane(L), s.t);
+      std::printf("λ = %s, %s, level 3, Ca_s 0.005, t/τ = %.1f: D = %.6e, theory %.6e (%+.4f), θ = %.3f°\n", c.lambda,
+                  c.flow, s.t / tau, s.shape.D, e.D, s.shape.D / e.D - 1, s.shape.theta * 180 / M_PI);
+      // λ = 1 at level 3: −0.6 % (mesh, O(h²)) and −0.01 % (theory, O(Ca²)); the double layer adds
+      // its own O(h²). 2 % is a bound to tighten once measured; a run whose time scale ignored λ
+      // would be off by 29 % (λ = 0.2) and 89 % (λ = 5) at t = τ/2.
+      EXPECT_NEAR(s.shape.D / e.D, 1.0, 0.02) << "λ = " << c.lambda << ", " << c.flow << ", t/τ = " << s.t / tau;
+    }
+  }
+}
