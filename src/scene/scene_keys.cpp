@@ -15,6 +15,7 @@
 #include "capsflow/fmm/calibration.hpp"
 #include "capsflow/shell/gsmb_wall.hpp"
 #include "key_table.hpp"
+#include "scene_rules.hpp"
 
 namespace capsflow {
 
@@ -201,7 +202,8 @@ const Section<TimeSpec>& time_keys() {
               "RKC: local error per step, RMS over nodes, in units of ℓ (§5.7: keeps D_ij within 1e-4 of the "
               "time-converged result on the paper's cases)"),
        time_dt("fixed step; `\"auto\"`: Heun takes `dt_safety` × the stability limit recomputed every step "
-               "(`docs/time-integration.md` §5.2), RKC its error-controlled step"),
+               "(`docs/time-integration.md` §5.2), RKC its error-controlled step; a fixed step may need at most " +
+                   number_text(kMaxSteps) + " steps to `t_end`"),
        // 0.8: the calibrated limit is a measured bound with 18 % to spare on the worst calibration case
        // (c_m = 1.15 measured against 1.4 used, docs/time-integration.md §5.2.3); above, a step is no
        // longer known to be stable (dt_safety = 1.4 loses 3 % of the volume and half of D13).
@@ -254,10 +256,12 @@ const Section<OutputSpec>& output_keys() {
   static const Section<OutputSpec> s{
       "output", &Scene::output,
       {number("every", &OutputSpec::every, 0.1, above(0.0),
-              "output interval in γ̇t (time steps are shortened to land on it)"),
+              "output interval in γ̇t (time steps are shortened to land on it); at most " + number_text(kMaxOutputs) +
+                  " outputs to `time.t_end`"),
        choice_list("fields", &OutputSpec::fields, "nodal fields stored per output step (§3.2)"),
        number("checkpoint_every", &OutputSpec::checkpoint_every, 0.5, at_least(0.0),
-              "checkpoint interval in γ̇t; 0 = only the final checkpoint")}};
+              "checkpoint interval in γ̇t; 0 = only the final checkpoint; at most " + number_text(kMaxOutputs) +
+                  " checkpoints to `time.t_end`")}};
   return s;
 }
 

@@ -2,6 +2,9 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+#include <cstdlib>
+
 #include "key_table.hpp"
 
 namespace capsflow::scene_detail {
@@ -19,6 +22,24 @@ void derive(Scene& s) {
   if (s.time.scheme_auto) s.time.scheme = s.wall.model == WallModel::Gsmb ? TimeScheme::Rkc : TimeScheme::Heun;
 }
 
+namespace {
+
+// "time.dt: 1e-300 would need 5e300 steps to time.t_end = 5; at most 1e9 are allowed (time.dt ≥ 5e-9)".
+void check_count(const TomlReader& r, const std::string& section, const std::string& key, double interval,
+                 double t_end, double bound, const std::string& what) {
+  const double n = t_end / interval;
+  if (!(n > bound)) return;
+  // 3 digits: 5e300, not 4.9999999999999997e300; beyond the doubles, "more than 1e308".
+  const std::string about =
+      std::isfinite(n) ? number_text(std::strtod(fmt::format("{:.3g}", n).c_str(), nullptr)) : "more than 1e308";
+  r.fail(section, key,
+         fmt::format("{} would need {} {} to time.t_end = {}; at most {} are allowed ({}.{} ≥ {})", number_text(interval),
+                     about, what, number_text(t_end), number_text(bound), section, key,
+                     number_text(t_end / bound)));
+}
+
+}  // namespace
+
 void check_rules(const TomlReader& r, const Scene& s) {
   const FlowSpec& f = s.flow;
   if (r.has("flow", "ca_v") && r.has("flow", "ca_s")) r.fail("flow", "ca_s", "give either flow.ca_s or flow.ca_v, not both");
@@ -34,6 +55,12 @@ void check_rules(const TomlReader& r, const Scene& s) {
   } else if (r.has("flow", "gradient")) {
     r.fail("flow", "gradient", "only used with flow.type = \"linear\"");
   }
+  // Counted from t = 0 also on a restart: the bound is on the run, and the check needs no checkpoint.
+  const double t_end = s.time.t_end;
+  if (!s.time.dt_auto) check_count(r, "time", "dt", s.time.dt, t_end, kMaxSteps, "steps");
+  check_count(r, "output", "every", s.output.every, t_end, kMaxOutputs, "outputs");
+  if (s.output.checkpoint_every > 0)
+    check_count(r, "output", "checkpoint_every", s.output.checkpoint_every, t_end, kMaxOutputs, "checkpoints");
 }
 
 }  // namespace capsflow::scene_detail

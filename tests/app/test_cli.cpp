@@ -364,7 +364,11 @@ TEST(Cli, SigintStopsARunWithAHugeTEndAndTheProcessIsNamedCapsflow) {
   // /proc/self/exe named the process "exe" in ps.
   TempDir d;
   const fs::path out = d.path / "out";
-  const pid_t pid = spawn(std::string("run ") + kTiny + " --set time.t_end=1e308 -o " + out.string(), d.path);
+  // Outputs and checkpoints every 1e302: 1e6 of each, within the counts a scene may ask for (issue 27).
+  const pid_t pid = spawn(std::string("run ") + kTiny +
+                              " --set time.t_end=1e308 --set output.every=1e302 --set output.checkpoint_every=1e302 -o " +
+                              out.string(),
+                          d.path);
   ASSERT_TRUE(wait_for_file(out / "run.xmf", 60)) << slurp(d.path / "stderr.txt");  // first output: handlers installed
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // some steps into the loop
   std::string comm = slurp("/proc/" + std::to_string(pid) + "/comm");
@@ -437,4 +441,23 @@ TEST(Cli, AForcedFmmOrderThatTheDirectSumIgnoresIsWarnedAbout) {
   const Result r = run(std::string("run ") + kTiny + " " + set + " --set time.t_end=0.01 -o " + (d.path / "o").string(), d.path);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE((r.out + r.err).find("fluid.fmm_order = 8 is not used"), std::string::npos) << r.out << r.err;
+}
+
+// Issue 27: the step and output counts are bounded before anything runs: by `info`, and on a
+// restart for what --set changes (the scene of a restart is checked like any other).
+TEST(Cli, CountsBeyondTheBoundAreRefusedByInfoAndOnARestart) {
+  TempDir d;
+  const Result i = run("info --set output.every=1e-300", d.path);
+  EXPECT_EQ(i.code, 1);
+  EXPECT_EQ(count_lines(i.err), 1) << i.err;
+  EXPECT_NE(i.err.find("--set output.every: 1e-300 would need 2e300 outputs to time.t_end = 2"), std::string::npos) << i.err;
+  const fs::path out = d.path / "o";
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.02 -o " + out.string(), d.path).code, 0);
+  const auto before = snapshot(out);
+  const Result r = run("run --restart " + out.string() + " --set time.t_end=0.04 --set time.dt=1e-300", d.path);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--set time.dt: 1e-300 would need 4e298 steps to time.t_end = 0.04; at most 1e9 are allowed"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(snapshot(out), before);  // refused before anything is written
 }

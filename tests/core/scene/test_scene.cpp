@@ -303,3 +303,23 @@ TEST(Scene, AForcedFmmOrderUnusedByTheDirectSumIsNoted) {
   EXPECT_EQ(unused_fmm_order_note(automatic, FarFieldBackend::Fmm), "");           // the FMM uses it
   EXPECT_EQ(unused_fmm_order_note(parse_scene("", "d"), FarFieldBackend::Direct), "");  // nothing forced
 }
+
+// Issue 27: time.dt = 1e-300 or output.every = 1e-300 was accepted and would have needed ~1e300
+// steps or outputs (ETA "?"). Counts to time.t_end are bounded (1e9 steps, 1e7 outputs or
+// checkpoints: scene_rules.hpp) and the message gives the count and the smallest interval allowed.
+TEST(SceneErrors, StepOutputAndCheckpointCountsAreBounded) {
+  const std::string dt = error_of("", {"time.dt=1e-300"});  // t_end = 5 by default
+  EXPECT_EQ(dt, "--set time.dt: 1e-300 would need 5e300 steps to time.t_end = 5; at most 1e9 are allowed (time.dt ≥ 5e-9)");
+  const std::string every = error_of("[output]\nevery = 1e-300\n");
+  EXPECT_NE(every.find("s.toml:2: output.every: 1e-300 would need 5e300 outputs to time.t_end = 5; at most 1e7 are allowed "
+                       "(output.every ≥ 5e-7)"),
+            std::string::npos) << every;
+  EXPECT_NE(error_of("", {"output.checkpoint_every=1e-300"}).find("would need 5e300 checkpoints"), std::string::npos);
+  // A huge t_end is caught by the same counts, at the interval it multiplies.
+  EXPECT_NE(error_of("", {"time.t_end=1e300"}).find("output.every: 0.1 would need 1e301 outputs to time.t_end = 1e300"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"time.t_end=1e308"}).find("output.every: 0.1 would need more than 1e308 outputs"), std::string::npos);
+  // The bounds themselves are accepted; an automatic step and checkpoint_every = 0 are not counted.
+  EXPECT_NO_THROW(parse_scene("", "d", {"time.t_end=1", "time.dt=1e-9", "output.every=1e-7", "output.checkpoint_every=1e-7"}));
+  EXPECT_NO_THROW(parse_scene("", "d", {"time.t_end=1e5", "output.every=0.01", "output.checkpoint_every=0"}));
+}
