@@ -7,6 +7,7 @@
 // and documenting it (scene_keys.hpp, docs/scene-and-output.md §2).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -227,7 +228,9 @@ Key<Spec> choice(std::string name, E Spec::*m, E def, std::string meaning, Spell
   return k;
 }
 
-// A list of named choices, empty by default.
+// A list of named choices, empty by default. A choice given twice counts once, at its first place:
+// folded rather than refused because checkpoints store the list as it was given, and a restart
+// must accept what a checkpoint holds (200 000 copies of one field were once stored verbatim).
 template <class Spec, class E>
 Key<Spec> choice_list(std::string name, std::vector<E> Spec::*m, std::string meaning) {
   const Spellings<E> names = spellings_of_table<E>();
@@ -236,7 +239,10 @@ Key<Spec> choice_list(std::string name, std::vector<E> Spec::*m, std::string mea
   k.read = [m, name, names](const TomlReader& r, const std::string& sec, Spec& s) {
     if (const std::optional<std::vector<std::string>> v = r.strings(sec, name)) {
       std::vector<E> out;
-      for (const std::string& given : *v) out.push_back(parse_spelling(names, given, r, sec, name));
+      for (const std::string& given : *v) {
+        const E e = parse_spelling(names, given, r, sec, name);
+        if (std::find(out.begin(), out.end(), e) == out.end()) out.push_back(e);
+      }
       s.*m = std::move(out);
     }
   };

@@ -217,7 +217,8 @@ const Section<TimeSpec>& time_keys() {
        number("steady_tol", &TimeSpec::steady_tol, 5e-4, above(0.0), "area change over γ̇t = 1, relative to 4πℓ²"),
        choice_list("stop_on", &TimeSpec::stop_on,
                    "stop (exit 3, `stop_reason` = the name) when one of these health conditions begins "
-                   "(`docs/health-monitors.md`); each is warned about once per episode either way")}};
+                   "(`docs/health-monitors.md`); each is warned about once per episode either way; a name given twice "
+                   "counts once")}};
   return s;
 }
 
@@ -258,7 +259,7 @@ const Section<OutputSpec>& output_keys() {
       {number("every", &OutputSpec::every, 0.1, above(0.0),
               "output interval in γ̇t (time steps are shortened to land on it); at most " + number_text(kMaxOutputs) +
                   " outputs to `time.t_end`"),
-       choice_list("fields", &OutputSpec::fields, "nodal fields stored per output step (§3.2)"),
+       choice_list("fields", &OutputSpec::fields, "nodal fields stored per output step (§3.2); a name given twice counts once"),
        number("checkpoint_every", &OutputSpec::checkpoint_every, 0.5, at_least(0.0),
               "checkpoint interval in γ̇t; 0 = only the final checkpoint; at most " + number_text(kMaxOutputs) +
                   " checkpoints to `time.t_end`")}};

@@ -323,3 +323,16 @@ TEST(SceneErrors, StepOutputAndCheckpointCountsAreBounded) {
   EXPECT_NO_THROW(parse_scene("", "d", {"time.t_end=1", "time.dt=1e-9", "output.every=1e-7", "output.checkpoint_every=1e-7"}));
   EXPECT_NO_THROW(parse_scene("", "d", {"time.t_end=1e5", "output.every=0.01", "output.checkpoint_every=0"}));
 }
+
+// Issue 27: output.fields with 200 000 duplicates was stored verbatim (a 4 MB summary.json).
+// Lists of choices fold a repeated name into its first place (not refused: a restart must read
+// any list a checkpoint stored).
+TEST(Scene, RepeatedNamesInAListCountOnce) {
+  std::string many;
+  for (int i = 0; i < 200000; ++i) many += "\"energy\", ";
+  const Scene s = parse_scene("[output]\nfields = [\"velocity\", " + many + "\"load\", \"velocity\"]\n", "s.toml");
+  EXPECT_EQ(s.output.fields, (std::vector<OutputField>{OutputField::Velocity, OutputField::Energy, OutputField::Load}));
+  EXPECT_NE(to_toml(s).find("fields = [\"velocity\", \"energy\", \"load\"]\n"), std::string::npos) << to_toml(s);
+  const Scene t = parse_scene("", "d", {"time.stop_on=[\"element_quality\", \"element_quality\"]"});
+  EXPECT_EQ(t.time.stop_on, std::vector<HealthCondition>{HealthCondition::ElementQuality});
+}
