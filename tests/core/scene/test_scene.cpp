@@ -159,7 +159,7 @@ TEST(SceneErrors, OutOfRangeNamesTheValueAndTheRange) {
   }
   // On the command line the value is named the same way.
   const std::string set = error_of("", {"time.dt_safety=0.9"});
-  EXPECT_EQ(set.rfind("--set time.dt_safety: 0.9 is out of range: must be in (0, 0.8]", 0), 0u) << set;
+  EXPECT_EQ(set.rfind("--set time.dt_safety: 0.9 is out of range: must be in [0.001, 0.8] (0.8: the largest", 0), 0u) << set;
 }
 
 TEST(SceneErrors, InconsistentKeys) {
@@ -335,4 +335,14 @@ TEST(Scene, RepeatedNamesInAListCountOnce) {
   EXPECT_NE(to_toml(s).find("fields = [\"velocity\", \"energy\", \"load\"]\n"), std::string::npos) << to_toml(s);
   const Scene t = parse_scene("", "d", {"time.stop_on=[\"element_quality\", \"element_quality\"]"});
   EXPECT_EQ(t.time.stop_on, std::vector<HealthCondition>{HealthCondition::ElementQuality});
+}
+
+// Issue 27: time.dt_safety = 1e-300 was accepted: Heun's automatic step would have been 1e-300 of
+// the stable one, a step count no bound on time.dt can see. 1e-3 (700× the default's steps) is the
+// smallest fraction accepted.
+TEST(SceneErrors, AVanishingSafetyFactorIsRefused) {
+  EXPECT_EQ(error_of("", {"time.dt_safety=1e-300"}),
+            "--set time.dt_safety: 1e-300 is out of range: must be in [0.001, 0.8] (0.8: the largest fraction of the "
+            "calibrated limit measured stable)");
+  EXPECT_EQ(parse_scene("", "d", {"time.dt_safety=1e-3"}).time.dt_safety, 1e-3);  // the end itself
 }
