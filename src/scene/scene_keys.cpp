@@ -23,12 +23,18 @@ namespace scene_detail {
 
 namespace {
 
-// A user mesh path, "" for none (then no TOML line).
+// A user mesh path, "" for none (then no TOML line). Longer than PATH_MAX it cannot name a file,
+// and a 5 MB value must not travel on into the mesh reader's messages.
 Key<MeshSpec> mesh_file(std::string meaning) {
+  constexpr std::size_t kPathMax = 4096;  // Linux PATH_MAX, the terminating NUL included
   Key<MeshSpec> k = documented<MeshSpec>("file", "string", "path to `.off` / `.ply`", "none", std::move(meaning));
   k.set_default = [](MeshSpec& m) { m.file.clear(); };
   k.read = [](const TomlReader& r, const std::string& sec, MeshSpec& m) {
-    if (const std::optional<std::string> v = r.string(sec, "file")) m.file = *v;
+    if (const std::optional<std::string> v = r.string(sec, "file")) {
+      if (v->size() >= kPathMax)
+        r.fail(sec, "file", "'" + abbreviate(*v) + "' is longer than a path can be (" + std::to_string(kPathMax - 1) + " bytes)");
+      m.file = *v;
+    }
   };
   k.to_json = [](const MeshSpec& m) { return nlohmann::json(m.file); };
   k.to_toml = [](const MeshSpec& m) { return m.file.empty() ? std::nullopt : std::optional<std::string>(quoted(m.file)); };

@@ -346,3 +346,13 @@ TEST(SceneErrors, AVanishingSafetyFactorIsRefused) {
             "calibrated limit measured stable)");
   EXPECT_EQ(parse_scene("", "d", {"time.dt_safety=1e-3"}).time.dt_safety, 1e-3);  // the end itself
 }
+
+// Issue 27 (5 MB values): a mesh.file longer than a path can be is refused when the scene is read,
+// abbreviated, before the mesh reader would echo it.
+TEST(SceneErrors, AMeshPathLongerThanAPathCanBeIsRefused) {
+  const std::string e = error_of("", {"mesh.file=" + std::string(5 << 20, 'm') + ".off"});
+  EXPECT_EQ(e.rfind("--set mesh.file: 'mmm", 0), 0u) << e.substr(0, 200);
+  EXPECT_NE(e.find("… (5242884 bytes)' is longer than a path can be (4095 bytes)"), std::string::npos) << e.substr(0, 200);
+  EXPECT_LT(e.size(), 200u);
+  EXPECT_EQ(parse_scene("", "d", {"mesh.file=" + std::string(4091, 'm') + ".off"}).mesh.file.size(), 4095u);  // the longest
+}
