@@ -11,7 +11,7 @@ namespace capsflow::io {
 
 std::string input_file_problem(const std::string& path, std::uintmax_t max_bytes) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return errno == ENOENT ? "does not exist" : std::string("cannot access: ") + std::strerror(errno);
+  if (::stat(path.c_str(), &st) != 0) return errno == ENOENT ? "does not exist" : std::string("cannot be accessed: ") + std::strerror(errno);
   const auto type = st.st_mode & S_IFMT;
   if (type == S_IFDIR) return "is a folder, not a file";
   if (type != S_IFREG) {

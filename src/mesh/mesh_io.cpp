@@ -343,7 +343,8 @@ SurfaceMesh read_ply(const std::string& path) {
 }
 
 SurfaceMesh read_mesh(const std::string& path) {
-  if (const std::string problem = io::input_file_problem(path, io::kMaxMeshBytes); !problem.empty()) fail(path, problem);
+  if (const std::string problem = io::input_file_problem(path, io::kMaxMeshBytes); !problem.empty())
+    fail(path, "cannot open mesh file: it " + problem);
   const std::string ext = lower_ext(path);
   try {
     if (ext == "off") return read_off(path);

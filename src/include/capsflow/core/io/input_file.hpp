@@ -13,7 +13,7 @@ inline constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t{64} << 20;
 inline constexpr std::uintmax_t kMaxMeshBytes = std::uintmax_t{1} << 30;
 
 // Returns "" when `path` names a regular file (after symbolic links) of at most max_bytes, else
-// why not, in words that follow "<path>: " ("is a FIFO, not a regular file", "does not exist", …).
+// why not, as a predicate of "it" ("is a FIFO, not a regular file", "does not exist", "cannot be accessed: …").
 std::string input_file_problem(const std::string& path, std::uintmax_t max_bytes);
 
 }  // namespace capsflow::io
