@@ -609,9 +609,7 @@ int Simulation::run() {
       st_.stages_max = std::max<long>(st_.stages_max, o.stages);
       last_stages_ = o.stages;
     }
-    // With the volume correction a healthy run drifts by 1e-8 (Heun) or 1e-14 (RKC): 1e-3 is an
-    // instability under way. Without it the drift is physical-numerical and only runaway counts.
-    const double max_drift = scene_.fluid.volume_correction ? 1e-3 : 0.05;
+    const double max_drift = blow_up_drift(scene_.fluid.volume_correction);
     const double drift = enclosed_volume(SurfaceMesh{st_.x, ref_.triangles}) / st_.volume0 - 1;
     std::string problem = check_health(SurfaceMesh{x_prev_, ref_.triangles}, st_.x, drift, max_drift);
     if (problem.empty()) problem = instability_.observe(drift, o.dt);
