@@ -2,12 +2,25 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include "capsflow/core/study/cost_model.hpp"
 #include "capsflow/core/study/study_plan.hpp"
 
 using namespace capsflow;
 using namespace capsflow::study;
+
+namespace {
+// The message f throws, or "" when it does not.
+std::string error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
 
 TEST(StudyPlan, VariantsAreEveryLevelTimesEveryCombinationCoarseFirst) {
   const StudyPlan p = make_study_plan("", {"wall.law=nh"}, parse_levels("4,3"),
@@ -43,14 +56,6 @@ TEST(StudyPlan, AxesSharingALeafAreNamedByTheirFullKeyAndValuesAreMadeSafe) {
 }
 
 TEST(StudyPlan, BadLevelsAndAxesAreOneLineErrors) {
-  auto error = [](const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const std::exception& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
   EXPECT_NE(error([] { parse_levels("3,5"); }).find("consecutive"), std::string::npos);
   EXPECT_NE(error([] { parse_levels("3,,4"); }).find("'' is not an integer"), std::string::npos);
   EXPECT_NE(error([] { parse_vary("geometry=flat"); }).find("section.key"), std::string::npos);
@@ -100,14 +105,6 @@ TEST(StudyPlan, TwoSpellingsOfOneValueAreRefusedNamingBoth) {
 // Issue 27: `study --levels -1,0` and `--vary foo.bar=1,2` said "--set mesh.level: ..." and
 // "--set foo.bar: ...", blaming a --set the user never gave. Each error now names the option.
 TEST(StudyPlan, SceneErrorsNameTheOptionThatGaveTheKey) {
-  auto error = [](const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const std::exception& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
   const std::string levels = error([] { make_study_plan("", {}, parse_levels("-1,0"), {}); });
   EXPECT_EQ(levels.rfind("--levels mesh.level: -1 is out of range: must be in [0, 9]", 0), 0u) << levels;
   const std::string unknown = error([] { make_study_plan("", {}, {2}, {parse_vary("foo.bar=1,2")}); });
