@@ -113,7 +113,7 @@ int run_local_jobs(const StudyPlan& plan, const StudyOptions& o, std::vector<Var
     for (std::size_t j = 0; j < n; ++j) left += open_variant(records[j]) && records[j].state != VariantState::Running;
     // The child printed the variant's own result line; this one says where the study stands.
     spdlog::info("study [{}/{}] {}: {}{}; {} running, {} waiting", i + 1, n, v.name, to_string(records[i].state),
-                 records[i].state == VariantState::Failed ? " (" + records[i].result->stop_reason + ")" : std::string(),
+                 records[i].state == VariantState::Failed ? " (" + records[i].result->stop.to_string() + ")" : std::string(),
                  running.size(), left);
   }
   if (g_stop_signal) {

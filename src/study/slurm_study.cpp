@@ -104,7 +104,7 @@ int submit_study(const StudyPlan& plan, const StudyOptions& o, std::vector<Varia
     if (!o.overwrite && (records[i].state == VariantState::Finished || records[i].state == VariantState::Failed)) {
       if (records[i].state == VariantState::Failed)
         spdlog::warn("study {}: stopped earlier with {}; not submitted again (delete {} or pass --overwrite to retry)", v.name,
-                     records[i].result->stop_reason, (o.dir / v.name).string());
+                     records[i].result->stop.to_string(), (o.dir / v.name).string());
       continue;
     }
     if (!o.overwrite && has_job) {

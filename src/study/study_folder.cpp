@@ -106,13 +106,13 @@ void check_same_study(const StudyPlan& plan, const fs::path& dir) {
 
 VariantRecord read_variant_record(const Variant& v, const fs::path& folder) {
   VariantRecord rec;
-  const FolderInspection f = inspect_variant_folder(folder);
-  if (f.state == FolderState::Finished || f.state == FolderState::Failed) {
+  const FolderState f = inspect_variant_folder(folder);
+  if (f == FolderState::Finished || f == FolderState::Failed) {
     VariantResult r = read_variant_result(folder);
     check_same_scene(v, folder, r.summary.at("scene"));
-    rec.state = f.state == FolderState::Finished ? VariantState::Finished : VariantState::Failed;
+    rec.state = f == FolderState::Finished ? VariantState::Finished : VariantState::Failed;
     rec.result = std::move(r);
-  } else if (f.state == FolderState::Interrupted) {
+  } else if (f == FolderState::Interrupted) {
     std::string scene_toml;
     try {
       scene_toml = io::read_checkpoint(io::find_latest_checkpoint(folder)).scene_toml;

@@ -79,7 +79,7 @@ nlohmann::json study_json(const StudyReport& r) {
       nlohmann::json phases = nlohmann::json::object(), final_values = nlohmann::json::object();
       for (const auto& [k, s] : res.seconds_per_evaluation_by_phase) phases[k] = finite(s);
       for (const auto& [k, s] : res.final_values) final_values[k] = finite(s);
-      jv.update({{"stop_reason", res.stop_reason}, {"t", res.t_final}, {"nodes", res.nodes},
+      jv.update({{"stop_reason", res.stop.to_string()}, {"t", res.t_final}, {"nodes", res.nodes},
                  {"wall_seconds", finite(res.wall_seconds)}, {"rhs_evaluations", res.rhs_evaluations},
                  {"seconds_per_evaluation", finite(res.seconds_per_evaluation)},
                  {"seconds_per_evaluation_by_phase", phases}, {"peak_rss_mb", finite(res.peak_rss_mb)},
@@ -162,7 +162,7 @@ std::string study_markdown(const StudyReport& r) {
     }
     const VariantResult& res = *rec.result;
     md += fmt::format("| {} | {} | {} | {:g} | {:.1f} | {} | {:.2f} |", v.name, res.elements,
-                      rec.state == VariantState::Finished ? std::string(to_string(rec.state)) : to_string(rec.state) + (" (" + res.stop_reason + ")"), res.t_final,
+                      rec.state == VariantState::Finished ? std::string(to_string(rec.state)) : to_string(rec.state) + (" (" + res.stop.to_string() + ")"), res.t_final,
                       res.wall_seconds, res.rhs_evaluations, 1e3 * res.seconds_per_evaluation);
     for (const std::string& ph : phases) {
       const auto it = res.seconds_per_evaluation_by_phase.find(ph);

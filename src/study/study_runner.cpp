@@ -68,7 +68,7 @@ int run_sequentially(const StudyPlan& plan, const StudyOptions& o, std::vector<V
     }
     if (records[i].state == VariantState::Failed) {
       spdlog::warn("{}: stopped earlier with {}; not run again (delete {} or pass --overwrite to retry)", tag,
-                   records[i].result->stop_reason, folder.string());
+                   records[i].result->stop.to_string(), folder.string());
       continue;
     }
     const bool resume = records[i].state == VariantState::Interrupted;
@@ -95,13 +95,13 @@ int run_sequentially(const StudyPlan& plan, const StudyOptions& o, std::vector<V
       return 130;
     }
     VariantResult r = read_variant_result(folder);
-    records[i].state = code == 0 ? VariantState::Finished : VariantState::Failed;
+    records[i].state = r.stop.finished() ? VariantState::Finished : VariantState::Failed;  // as read back from the folder
     records[i].note.clear();
-    if (code == 0) {
+    if (r.stop.finished()) {
       cost.add(v.family, r.elements, r.wall_seconds);
       spdlog::info("{}: {}; {}", tag, result_line(r), eta(i + 1));
     } else {
-      spdlog::warn("{}: stopped with {} (exit {}); the analysis uses the other variants; {}", tag, r.stop_reason, code, eta(i + 1));
+      spdlog::warn("{}: stopped with {} (exit {}); the analysis uses the other variants; {}", tag, r.stop.to_string(), code, eta(i + 1));
     }
     records[i].result = std::move(r);
     write_reports(plan, records, o.dir, o.command_line);
@@ -127,7 +127,7 @@ int run_one_variant(const StudyPlan& plan, const StudyOptions& o) {
     return 0;
   }
   if (rec.state == VariantState::Failed) {
-    spdlog::warn("{}: stopped earlier with {}; not run again", tag, rec.result->stop_reason);
+    spdlog::warn("{}: stopped earlier with {}; not run again", tag, rec.result->stop.to_string());
     return 3;
   }
   if (!rec.note.empty()) spdlog::warn("{}: {}", tag, rec.note);
@@ -137,7 +137,7 @@ int run_one_variant(const StudyPlan& plan, const StudyOptions& o) {
   const int code = run_variant(v, folder, resume, VariantRunOptions{tag, o.threads, o.verbose, o.heartbeat_seconds, o.command_line});
   if (code == 0 || code == 3) {
     const VariantResult r = read_variant_result(folder);
-    (code == 0 ? spdlog::info("{}: {}", tag, result_line(r)) : spdlog::warn("{}: stopped with {}", tag, r.stop_reason));
+    (code == 0 ? spdlog::info("{}: {}", tag, result_line(r)) : spdlog::warn("{}: stopped with {}", tag, r.stop.to_string()));
   }
   return code;
 }
@@ -224,7 +224,7 @@ int analyse_study_folder(const fs::path& dir) {
   for (std::size_t i = 0; i < records.size(); ++i)
     if (records[i].state != VariantState::Finished)
       missing += fmt::format("\n  {}: {}{}", plan.variants[i].name, to_string(records[i].state),
-                             records[i].result ? " (" + records[i].result->stop_reason + ")"
+                             records[i].result ? " (" + records[i].result->stop.to_string() + ")"
                              : records[i].note.empty() ? std::string() : " (" + records[i].note + ")");
   spdlog::info("study --analyse {}: {} of {} variants finished, analysed in {}{}", dir.string(), finished, records.size(),
                (dir / kStudyMarkdown).string(), missing.empty() ? std::string() : "; missing:" + missing);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -25,7 +26,15 @@ nlohmann::json read_json(const fs::path& p) {
   }
 }
 
-bool is_finished(const std::string& reason) { return reason == "t_end" || reason == "steady"; }
+StopReason stop_reason_of(const nlohmann::json& summary, const fs::path& file) {
+  const auto text = summary.find("stop_reason");
+  const std::optional<StopReason> stop =
+      text != summary.end() && text->is_string() ? StopReason::parse(text->get<std::string>()) : std::nullopt;
+  if (!stop)
+    throw std::runtime_error("'" + file.string() + "': stop_reason " + (text == summary.end() ? "missing" : text->dump()) +
+                             " is not one this capsflow writes");
+  return *stop;
+}
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out;
@@ -37,26 +46,21 @@ std::vector<std::string> split(const std::string& line) {
 
 }  // namespace
 
-FolderInspection inspect_variant_folder(const fs::path& dir) {
-  FolderInspection r;
+FolderState inspect_variant_folder(const fs::path& dir) {
   std::error_code ec;
-  if (!fs::is_directory(dir, ec) || fs::is_empty(dir, ec)) return r;
-  if (fs::exists(dir / io::kSummaryJson, ec)) {
-    r.stop_reason = read_json(dir / io::kSummaryJson).value("stop_reason", std::string());
-    r.state = is_finished(r.stop_reason) ? FolderState::Finished
-              : r.stop_reason == "interrupted" ? FolderState::Interrupted
-                                               : FolderState::Failed;
-    return r;
+  if (!fs::is_directory(dir, ec) || fs::is_empty(dir, ec)) return FolderState::Empty;
+  const fs::path summary = dir / io::kSummaryJson;
+  if (fs::exists(summary, ec)) {
+    const StopReason stop = stop_reason_of(read_json(summary), summary);
+    return stop.finished() ? FolderState::Finished
+           : stop.kind() == StopKind::Interrupted ? FolderState::Interrupted
+                                                   : FolderState::Failed;
   }
   const fs::path ck = dir / io::kCheckpointFile;
-  if (fs::exists(ck, ec) || fs::exists(io::previous_checkpoint_path(ck), ec)) {
-    r.state = FolderState::Interrupted;
-    return r;
-  }
+  if (fs::exists(ck, ec) || fs::exists(io::previous_checkpoint_path(ck), ec)) return FolderState::Interrupted;
   bool has_run_files = false;
   for (const auto& e : fs::directory_iterator(dir, ec)) has_run_files = has_run_files || io::is_capsflow_output_name(e.path().filename().string());
-  r.state = has_run_files ? FolderState::Unfinished : FolderState::Empty;
-  return r;
+  return has_run_files ? FolderState::Unfinished : FolderState::Empty;
 }
 
 const std::vector<std::string>& observable_names() {
@@ -69,8 +73,8 @@ VariantResult read_variant_result(const fs::path& dir) {
   const fs::path sp = dir / io::kSummaryJson;
   r.summary = read_json(sp);
   const nlohmann::json& s = r.summary;
+  r.stop = stop_reason_of(s, sp);
   try {
-    r.stop_reason = s.at("stop_reason").get<std::string>();
     r.t_final = s.at("t").get<double>();
     r.elements = s.at("elements").get<long>();
     r.nodes = s.at("nodes").get<long>();

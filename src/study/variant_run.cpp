@@ -28,7 +28,7 @@ std::string result_line(const VariantResult& r) {
   const auto& f = r.final_values;
   return fmt::format("{} at t = {:g}, {} elements, {} evaluations in {} ({:.1f} ms each), D12 {:.5f} D13 {:.5f} D23 {:.5f}, "
                      "Le {:.4f} {:.4f} {:.4f}, dV/V {:+.1e}, peak {:.0f} MB",
-                     r.stop_reason, r.t_final, r.elements, r.rhs_evaluations, hms(r.wall_seconds), 1e3 * r.seconds_per_evaluation,
+                     r.stop.to_string(), r.t_final, r.elements, r.rhs_evaluations, hms(r.wall_seconds), 1e3 * r.seconds_per_evaluation,
                      f.at("D12"), f.at("D13"), f.at("D23"), f.at("Le1"), f.at("Le2"), f.at("Le3"), f.at("volume_drift"),
                      r.peak_rss_mb);
 }

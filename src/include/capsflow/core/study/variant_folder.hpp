@@ -8,21 +8,21 @@
 #include <string>
 #include <vector>
 
+#include "capsflow/core/driver/stop_reason.hpp"
+
 namespace capsflow::study {
 
 enum class FolderState {
   Empty,        // nothing there yet (or no folder)
-  Finished,     // summary.json with stop_reason t_end or steady
-  Failed,       // summary.json with a numerical stop (blow_up, solver_failure, no_progress)
+  Finished,     // summary.json with a stop reason that completes the run (t_end, steady)
+  Failed,       // summary.json with a numerical stop (blow_up, solver_failure, no_progress, a stop_on condition)
   Interrupted,  // summary.json says interrupted, or no summary but a checkpoint: continue from it
   Unfinished,   // run files without summary or checkpoint (killed before its first checkpoint): start again
 };
 
-struct FolderInspection {
-  FolderState state = FolderState::Empty;
-  std::string stop_reason;  // from summary.json, when there is one
-};
-FolderInspection inspect_variant_folder(const std::filesystem::path& dir);
+// Throws std::runtime_error naming the file when summary.json cannot be read or its stop_reason is
+// not one this capsflow writes (driver/stop_reason.hpp).
+FolderState inspect_variant_folder(const std::filesystem::path& dir);
 
 // The observables of the analysis: names of timeseries.csv columns (L and Le of summary.json
 // become L1..L3, Le1..Le3).
@@ -30,7 +30,7 @@ const std::vector<std::string>& observable_names();
 
 struct VariantResult {
   nlohmann::json summary;  // summary.json as written
-  std::string stop_reason;
+  StopReason stop{StopKind::TEnd};  // its stop_reason; to_string() gives it back as written
   double t_final = 0;
   long elements = 0, nodes = 0;
   double wall_seconds = 0;     // whole run, restarted segments included
