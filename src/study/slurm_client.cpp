@@ -100,8 +100,7 @@ std::map<std::string, QueueState> SlurmClient::active(const std::vector<std::str
   // Every job unknown to slurmctld (finished long ago): squeue says so and exits 1.
   if (r.exit_code != 0 && r.err.find("Invalid job id") != std::string::npos) return {};
   if (r.exit_code != 0)
-    throw std::runtime_error("cannot read the Slurm queue (squeue: " + first_error_line(r.err) +
-                             "); nothing submitted, as a variant still queued could be submitted twice");
+    throw std::runtime_error("cannot read the Slurm queue (squeue: " + first_error_line(r.err) + ")");
   return parse_squeue(r.out);
 }
 

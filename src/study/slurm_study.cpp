@@ -63,15 +63,53 @@ void check_slurm_submission(const StudyOptions& o) {
   check_site_options(o.slurm_options);
 }
 
+namespace {
+
+// The study's recorded variant jobs still queued or running; empty when Slurm is not on PATH here.
+std::map<std::string, QueueState> active_variant_jobs_here(const SlurmRecords& recs) {
+  if (recs.variants.empty() || !find_program("sbatch") || !find_program("squeue")) return {};
+  std::vector<std::string> ids;
+  for (const auto& [name, v] : recs.variants) ids.push_back(v.job);
+  return SlurmClient().active(ids);
+}
+
+}  // namespace
+
 void annotate_from_slurm_records(const StudyPlan& plan, const fs::path& dir, std::vector<VariantRecord>& records) {
   const SlurmRecords recs = read_slurm_records(dir);
+  std::map<std::string, QueueState> active;
+  try {
+    active = active_variant_jobs_here(recs);
+  } catch (const std::runtime_error& e) {
+    spdlog::warn("study --analyse: {}; the variants' states are read from their folders and logs only", e.what());
+  }
   for (std::size_t i = 0; i < plan.variants.size(); ++i) {
     const auto it = recs.variants.find(plan.variants[i].name);
     if (records[i].result || it == recs.variants.end()) continue;
+    if (const auto q = active.find(it->second.job); q != active.end()) {  // not an error: it has not ended
+      records[i].state = q->second == QueueState::Queued ? VariantState::Queued : VariantState::Running;
+      records[i].note = "job " + it->second.job;
+      continue;
+    }
     const std::string why = last_error_line(dir / it->second.log);
     if (records[i].state == VariantState::Pending) records[i].state = VariantState::Error;
     records[i].note = "job " + it->second.job + (why.empty() ? "" : ": " + why);
   }
+}
+
+void refuse_while_slurm_jobs_active(const fs::path& dir) {
+  std::map<std::string, QueueState> active;
+  try {
+    active = active_variant_jobs_here(read_slurm_records(dir));
+  } catch (const std::runtime_error& e) {
+    fail(std::string(e.what()) + "; nothing run, as a variant still queued on Slurm could run twice");
+  }
+  std::vector<std::string> jobs;
+  for (const auto& [job, state] : active) jobs.push_back(job);
+  if (!jobs.empty())
+    fail("jobs of this study are queued or running on Slurm (" + join(jobs) +
+         ") and would write the same variant folders: wait for them or scancel them, or run the same command with "
+         "--scheduler slurm to collect them");
 }
 
 int submit_study(const StudyPlan& plan, const StudyOptions& o, std::vector<VariantRecord>& records) {
@@ -80,7 +118,12 @@ int submit_study(const StudyPlan& plan, const StudyOptions& o, std::vector<Varia
   std::vector<std::string> ids;
   for (const auto& [name, v] : recs.variants) ids.push_back(v.job);
   if (!recs.analysis_job.empty()) ids.push_back(recs.analysis_job);
-  const std::map<std::string, QueueState> active = client.active(ids);  // before the folders: a job may end meanwhile
+  std::map<std::string, QueueState> active;
+  try {
+    active = client.active(ids);  // before the folders: a job may end meanwhile
+  } catch (const std::runtime_error& e) {
+    fail(std::string(e.what()) + "; nothing submitted, as a variant still queued could be submitted twice");
+  }
   std::vector<std::string> active_variant_jobs;
   for (const auto& [name, v] : recs.variants)
     if (active.count(v.job)) active_variant_jobs.push_back(v.job);
@@ -171,21 +214,24 @@ int submit_study(const StudyPlan& plan, const StudyOptions& o, std::vector<Varia
   if (ec) fail("cannot create '" + slurm_dir.string() + "': " + ec.message());
   io::write_file_atomically(slurm_dir / "variants.sh", script);
   io::write_file_atomically(slurm_dir / "analyse.sh", analysis);
+  const std::vector<VariantRecord> before = records;  // what the study files say again if sbatch refuses below
   for (std::size_t i : todo) records[i].state = VariantState::Queued;
-  {
-    const StudyAnalysis a = analyse_study(plan, records);  // study.json first: the analysis job reads it
-    write_study_reports(o.dir, StudyReport{plan, records, a, o.command_line});
-  }
+  auto write_reports = [&] { write_study_reports(o.dir, StudyReport{plan, records, analyse_study(plan, records), o.command_line}); };
+  write_reports();  // study.json first: the analysis job reads it
 
   std::vector<std::string> submitted, dependencies = active_variant_jobs;
   for (std::string& d : dependencies) d = array_job(d);
-  for (const auto& [s, vs] : groups) {
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const auto& [s, vs] = groups[g];
     std::vector<std::string> opts = group_options(s, vs);
     opts.push_back((slurm_dir / "variants.sh").string());
     std::string id;
     try {
       id = client.submit(opts, "", false);
     } catch (const std::runtime_error& e) {
+      for (std::size_t k = g; k < groups.size(); ++k)
+        for (const ScriptVariant& v : groups[k].second) records[v.index] = before[v.index];  // not queued after all
+      write_reports();
       write_slurm_records(o.dir, recs);
       fail(std::string(e.what()) + (submitted.empty() ? "" : "; submitted before it: " + join(submitted) +
                                                                  " (run the same command again to submit the rest)"));

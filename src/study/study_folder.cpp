@@ -58,7 +58,10 @@ void prepare_study_folder(const fs::path& dir, bool overwrite) {
          " (not a study folder); pass --overwrite to use it anyway, or choose another -o");
   }
   io::check_writable(dir);
-  if (!overwrite) return;
+}
+
+void remove_study_files(const fs::path& dir) {
+  std::error_code ec;
   for (const std::string& name : study_manifest()) {
     fs::remove(dir / name, ec);
     if (ec) fail("cannot remove " + quoted(dir / name) + ": " + ec.message());

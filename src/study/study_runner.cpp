@@ -7,12 +7,12 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/study/cost_model.hpp"
 #include "capsflow/core/study/local_jobs.hpp"
 #include "capsflow/core/study/slurm_study.hpp"
 #include "capsflow/core/study/study_analysis.hpp"
 #include "capsflow/core/study/study_folder.hpp"
+#include "capsflow/core/study/study_lock.hpp"
 #include "capsflow/core/study/study_report.hpp"
 #include "capsflow/core/study/variant_run.hpp"
 
@@ -175,13 +175,17 @@ int run_study(const StudyOptions& o) {
   std::error_code ec;
   const bool new_folder = !fs::exists(o.dir, ec);
   // One study per folder at a time, for the whole study (its variants lock their own run folders).
-  io::FolderLock lock = io::FolderLock::acquire(o.dir, "study");
-  if (lock.taken_over()) spdlog::warn("study folder {}: took over the lock of {}, which is gone", o.dir.string(), lock.taken_over()->describe());
+  io::FolderLock lock = lock_study_folder(o.dir, o.scheduler == Scheduler::Slurm ? kSubmissionHolder : kLocalStudyHolder);
   prepare_study_folder(o.dir, o.overwrite);
   std::vector<VariantRecord> records(plan.variants.size());
   if (!o.overwrite) {
     check_same_study(plan, o.dir);
     records = read_variant_records(plan, o.dir);
+  }
+  if (o.scheduler == Scheduler::Local) {
+    refuse_while_slurm_jobs_active(o.dir);
+    // A Slurm submission replaces the study files once Slurm has accepted it: a refused one leaves them.
+    if (o.overwrite) remove_study_files(o.dir);
   }
   if (o.scheduler == Scheduler::Slurm) {
     try {
@@ -214,7 +218,7 @@ int run_study(const StudyOptions& o) {
 
 int analyse_study_folder(const fs::path& dir) {
   const StudyOptions o = recorded_study(dir);
-  const io::FolderLock lock = io::FolderLock::acquire(dir, "study --analyse");  // it rewrites the study's reports
+  const io::FolderLock lock = lock_study_folder(dir, kAnalysisHolder);  // it rewrites the study's reports
   const StudyPlan plan = make_study_plan(o.scene_path, o.overrides, o.levels, o.vary);
   std::vector<VariantRecord> records = read_variant_records(plan, dir);
   annotate_from_slurm_records(plan, dir, records);

@@ -19,6 +19,7 @@ std::vector<std::string> variant_command(const std::string& exe, const StudyOpti
   }
   argv.insert(argv.end(), {"-o", fs::absolute(o.dir).lexically_normal().string()});
   if (!variant.empty()) argv.insert(argv.end(), {"--variant", variant});
+  if (o.overwrite) argv.push_back("--overwrite");  // the variant itself runs anew, not only the study's files
   if (threads > 0) argv.insert(argv.end(), {"--threads", std::to_string(threads)});
   if (o.verbose) argv.push_back("--verbose");
   return argv;

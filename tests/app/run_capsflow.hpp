@@ -39,7 +39,8 @@ inline std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-inline nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "summary.json")); }
+inline nlohmann::json json_of(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
+inline nlohmann::json summary(const fs::path& dir) { return json_of(dir / "summary.json"); }
 
 // timeseries.csv as rows of column → value (an empty field reads as 0).
 inline std::vector<std::map<std::string, double>> series_rows(const fs::path& dir) {

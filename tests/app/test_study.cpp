@@ -25,8 +25,8 @@ struct TempDir : capsflow_test::TempDir {
   TempDir() : capsflow_test::TempDir("study") {}
 };
 
+using capsflow_test::json_of;
 using capsflow_test::slurp;
-nlohmann::json json_of(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
 int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 // A membrane capsule (no rotation solves: fast) on levels 1–3 (80 to 1280 elements), flat and
@@ -218,6 +218,11 @@ TEST(Study, AVariantFolderOfAnotherSceneIsRefusedUnlessOverwrite) {
   const Result again = capsflow(tiny + " --set time.t_end=0.03 --overwrite", d.path);
   EXPECT_EQ(again.code, 0) << again.out;
   EXPECT_DOUBLE_EQ(json_of(out / "L1" / "summary.json")["t"].get<double>(), 0.03);
+  // --jobs runs each variant in a child: --overwrite must reach it, or the child finds the run of
+  // another scene in its folder (or, for the same scene, keeps the old result).
+  const Result jobs = capsflow(tiny + " --set time.t_end=0.04 --overwrite --jobs 2", d.path);
+  EXPECT_EQ(jobs.code, 0) << jobs.out;
+  EXPECT_DOUBLE_EQ(json_of(out / "L1" / "summary.json")["t"].get<double>(), 0.04);
 }
 
 TEST(Study, TheSceneMayFollowVaryAndSet) {

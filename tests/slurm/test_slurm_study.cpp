@@ -18,6 +18,7 @@
 namespace fs = std::filesystem;
 using capsflow_test::capsflow;
 using capsflow_test::Result;
+using capsflow_test::json_of;
 using capsflow_test::slurp;
 
 namespace {
@@ -25,8 +26,6 @@ namespace {
 struct TempDir : capsflow_test::TempDir {
   TempDir() : capsflow_test::TempDir("slurm") {}
 };
-
-nlohmann::json json_of(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
 
 // The cluster of the fixture: SLURM_CONF set for this process and the capsflow it starts, or the
 // reason it is not there (the test then skips).
@@ -133,12 +132,12 @@ TEST(SlurmStudy, RunsToItsAnalysisResubmitsAFailedVariantAndMatchesTheLocalStudy
   EXPECT_NE(fourth.out.find("every variant has a result: 4 of 4 finished"), std::string::npos) << fourth.out;
 }
 
-TEST(SlurmStudy, AQueuedVariantIsNeverSubmittedTwice) {
+TEST(SlurmStudy, AQueuedVariantIsNeverSubmittedTwiceNorRunLocallyNorOverwritten) {
   if (const std::string why = use_cluster(); !why.empty()) GTEST_SKIP() << why;
   TempDir d;
   const fs::path out = d.path / "s";
-  const std::string tiny = "study --levels 1 --set wall.model=membrane --set time.t_end=0.02 --threads 1 --scheduler slurm "
-                           "--slurm-opt=--hold -o " + out.string();  // held: stays queued until released
+  const std::string local = "study --levels 1 --set wall.model=membrane --set time.t_end=0.02 --threads 1 -o " + out.string();
+  const std::string tiny = local + " --scheduler slurm --slurm-opt=--hold";  // held: stays queued until released
   const Result first = capsflow(tiny, d.path);
   ASSERT_EQ(first.code, 0) << first.out;
   const Result second = capsflow(tiny, d.path);
@@ -146,6 +145,25 @@ TEST(SlurmStudy, AQueuedVariantIsNeverSubmittedTwice) {
   EXPECT_NE(second.out.find("nothing to submit: 0 finished, 1 queued"), std::string::npos) << second.out;
   const nlohmann::json jobs = json_of(out / "slurm" / "jobs.json");
   EXPECT_EQ(jobs["submissions"].size(), 2u);  // the variant's and the analysis, once
+  const std::string job = jobs["variants"]["L1"]["job"].get<std::string>();
+
+  // --analyse while the job waits: the variant is queued, not an error.
+  const Result analysed = capsflow("study --analyse " + out.string(), d.path);
+  EXPECT_EQ(analysed.code, 3) << analysed.out;  // not every variant finished
+  EXPECT_NE(analysed.out.find("L1: queued (job " + job + ")"), std::string::npos) << analysed.out;
+  EXPECT_EQ(json_of(out / "study.json")["variants"][0]["state"], "queued");
+  // The same study run locally would write the folder the queued job will write: refused.
+  const std::string study_json = slurp(out / "study.json");
+  const Result here = capsflow(local, d.path);
+  EXPECT_EQ(here.code, 1) << here.out;
+  EXPECT_NE(here.out.find("jobs of this study are queued or running on Slurm (" + job + ")"), std::string::npos) << here.out;
+  EXPECT_FALSE(fs::exists(out / "L1" / "summary.json"));
+  // --overwrite is refused while the job waits, and leaves the study files as they were.
+  const Result overwrite = capsflow(tiny + " --overwrite", d.path);
+  EXPECT_EQ(overwrite.code, 1) << overwrite.out;
+  EXPECT_NE(overwrite.out.find("--overwrite: jobs of this study are queued or running (" + job + ")"), std::string::npos)
+      << overwrite.out;
+  EXPECT_EQ(slurp(out / "study.json"), study_json);
   for (const auto& s : jobs["submissions"]) shell("scancel " + s["job"].get<std::string>());
   ASSERT_TRUE(wait_for_jobs(out, 60));
 }

@@ -32,7 +32,7 @@ class SlurmClient {
   // job id. With test_only, only checks it (returns ""). Throws with sbatch's message.
   std::string submit(const std::vector<std::string>& options, const std::string& script, bool test_only) const;
   // The given jobs (array tasks as "12_3") that are still queued or running. Throws when the
-  // queue cannot be read: nothing may be submitted then (it could be submitted twice).
+  // queue cannot be read: the caller may then neither submit nor run a variant (it could run twice).
   std::map<std::string, QueueState> active(const std::vector<std::string>& job_ids) const;
   // How a job that left the queue ended, "" when slurmctld no longer knows it.
   std::string ended(const std::string& job_id) const;

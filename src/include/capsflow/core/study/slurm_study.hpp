@@ -27,7 +27,14 @@ void check_slurm_submission(const StudyOptions& o);
 // study (0 or 3). Throws std::runtime_error (one line) when Slurm refuses.
 int submit_study(const StudyPlan& plan, const StudyOptions& o, std::vector<VariantRecord>& records);
 
-// For --analyse: the job and its log's last error line beside each variant without a result.
+// For --analyse: each variant without a result whose job is still queued or running (squeue,
+// when Slurm is reachable from here) is queued / running; any other with a job gets the job and
+// its log's last error line.
 void annotate_from_slurm_records(const StudyPlan& plan, const std::filesystem::path& dir, std::vector<VariantRecord>& records);
+
+// For the local scheduler: refuses (one line) while jobs of a Slurm study in DIR are queued or
+// running, as they would write the same variant folders. Without Slurm on PATH (a study folder
+// copied off the cluster) there is nothing to ask and nothing is refused.
+void refuse_while_slurm_jobs_active(const std::filesystem::path& dir);
 
 }  // namespace capsflow::study

@@ -13,9 +13,12 @@
 
 namespace capsflow::study {
 
-// New, empty, or holding study.json (a study to continue). With overwrite, the study files are
-// removed (the variants are run anew); nothing else is. Throws std::runtime_error (one line).
+// New, empty, or holding study.json (a study to continue); with overwrite, any folder. Throws
+// std::runtime_error (one line).
 void prepare_study_folder(const std::filesystem::path& dir, bool overwrite);
+// --overwrite: removes the study files (the variants are run anew); nothing else. Called once
+// nothing can refuse the study any more (a Slurm submission is checked first).
+void remove_study_files(const std::filesystem::path& dir);
 
 // The first key (section.key, with both values) whose value differs between two resolved scenes
 // (to_json), "" if none; numbers equal to 1e-12 relative (a scene that went through a

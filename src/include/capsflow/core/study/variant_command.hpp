@@ -9,7 +9,7 @@
 
 namespace capsflow::study {
 
-// argv: EXE study [SCENE] --levels … [--set …]… [--vary …]… -o DIR --variant NAME [--threads T].
+// argv: EXE study [SCENE] --levels … [--set …]… [--vary …]… -o DIR --variant NAME [--overwrite] [--threads T].
 // `threads` 0 leaves --threads out; `variant` "" leaves --variant out (the script adds it).
 std::vector<std::string> variant_command(const std::string& exe, const StudyOptions& o, const std::string& variant,
                                          int threads);
