@@ -10,6 +10,7 @@
 #   local_cluster.sh stop STATE    # stops the daemons by their PIDs and removes the folder
 #   local_cluster.sh check         # exit 0 when this machine can run it (root, packages), else why
 set -euo pipefail
+export PATH=$PATH:/usr/sbin:/sbin  # the daemons live there; a root shell's PATH may lack them (su without -)
 
 max_life_seconds=${CAPSFLOW_SLURM_MAX_LIFE:-1800}  # the watchdog's bound: longer than any test run
 

@@ -1,11 +1,14 @@
 // `capsflow study --scheduler slurm` against a real one-node Slurm (local_cluster.sh, started by
 // the slurm_cluster ctest fixture): a small study submitted, waited for and compared with the
 // same study run locally; a second call that skips what finished and resubmits a variant whose
-// job failed; errors of the submission. Job states come from squeue/scontrol and the study's own
+// job failed; a variant stopped by SIGTERM before its time limit, resubmitted with more time,
+// continuing from its checkpoint; a queued job neither submitted twice, nor run locally, nor
+// overwritten; errors of the submission. Job states come from squeue/scontrol and the study's own
 // files (the cluster has no accounting daemon).
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -78,10 +81,22 @@ void expect_same_results(const fs::path& a, const fs::path& b) {
   EXPECT_EQ(ja["series"], jb["series"]);
 }
 
+// Each test runs on the fixture's cluster. Without one it skips, saying why — except under CI,
+// where a skip would let CI pass without a study having run through Slurm.
+class SlurmStudy : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string why = use_cluster();
+    if (why.empty()) return;
+    const char* ci = std::getenv("CI");
+    if (ci && *ci) FAIL() << why << " (CI is set: the Slurm tests must run there)";
+    GTEST_SKIP() << why;
+  }
+};
+
 }  // namespace
 
-TEST(SlurmStudy, RunsToItsAnalysisResubmitsAFailedVariantAndMatchesTheLocalStudy) {
-  if (const std::string why = use_cluster(); !why.empty()) GTEST_SKIP() << why;
+TEST_F(SlurmStudy, RunsToItsAnalysisResubmitsAFailedVariantAndMatchesTheLocalStudy) {
   TempDir d;
   const fs::path local = d.path / "local", cluster = d.path / "cluster";
   const Result l = capsflow(kStudy + " -o " + local.string(), d.path);
@@ -132,8 +147,7 @@ TEST(SlurmStudy, RunsToItsAnalysisResubmitsAFailedVariantAndMatchesTheLocalStudy
   EXPECT_NE(fourth.out.find("every variant has a result: 4 of 4 finished"), std::string::npos) << fourth.out;
 }
 
-TEST(SlurmStudy, AQueuedVariantIsNeverSubmittedTwiceNorRunLocallyNorOverwritten) {
-  if (const std::string why = use_cluster(); !why.empty()) GTEST_SKIP() << why;
+TEST_F(SlurmStudy, AQueuedVariantIsNeverSubmittedTwiceNorRunLocallyNorOverwritten) {
   TempDir d;
   const fs::path out = d.path / "s";
   const std::string local = "study --levels 1 --set wall.model=membrane --set time.t_end=0.02 --threads 1 -o " + out.string();
@@ -168,8 +182,76 @@ TEST(SlurmStudy, AQueuedVariantIsNeverSubmittedTwiceNorRunLocallyNorOverwritten)
   ASSERT_TRUE(wait_for_jobs(out, 60));
 }
 
-TEST(SlurmStudy, RefusalsAreOneLineAndSubmitNothing) {
-  if (const std::string why = use_cluster(); !why.empty()) GTEST_SKIP() << why;
+TEST_F(SlurmStudy, AVariantStoppedBeforeItsTimeLimitContinuesFromItsCheckpointWithMoreTime) {
+  TempDir d;
+  const fs::path out = d.path / "s", variant = out / "L3";
+  // One variant of some seconds (level 3, 1280 elements, to γ̇t = 2, an output every 0.1).
+  const std::string study = "study --levels 3 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.2 "
+                            "--set time.t_end=2 --set output.every=0.1 --threads 1 --scheduler slurm -o " + out.string();
+  const Result first = capsflow(study, d.path);
+  ASSERT_EQ(first.code, 0) << first.out;
+  EXPECT_NE(slurp(out / "slurm" / "variants.sh").find("\n#SBATCH --signal=B:TERM@120\n"), std::string::npos);
+  const nlohmann::json jobs = json_of(out / "slurm" / "jobs.json");
+  const std::string job = jobs["variants"]["L3"]["job"].get<std::string>();
+  const long minutes = jobs["variants"]["L3"]["minutes"].get<long>();
+
+  // Once it has written its second output (t = 0.1 of 2): what that #SBATCH line makes Slurm do
+  // two minutes before the time limit — SIGTERM to the batch shell, which is capsflow (exec).
+  // Bounded: 240 s for the job to start and reach t = 0.1 on a loaded machine.
+  bool started = false;
+  for (int i = 0; i < 4800 && !started; ++i) {
+    started = capsflow_test::series_rows(variant).size() >= 2;
+    if (!started) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(started) << "the variant did not reach its second output in time";
+  ASSERT_EQ(shell("scancel --signal=TERM --batch " + job), 0);
+  ASSERT_TRUE(wait_for_jobs(out)) << "the jobs did not leave the queue in time";
+  const nlohmann::json stopped = json_of(variant / "summary.json");
+  ASSERT_EQ(stopped["stop_reason"], "interrupted") << "the variant ended before the signal: make it longer";
+  const double t_stop = stopped["t"].get<double>();
+  EXPECT_GT(t_stop, 0.0);
+  EXPECT_LT(t_stop, 2.0);
+  EXPECT_EQ(json_of(out / "study.json")["variants"][0]["state"], "interrupted");  // written by the analysis job
+
+  // The same command submits it again with twice the time limit, and it continues from its checkpoint.
+  const Result second = capsflow(study, d.path);
+  ASSERT_EQ(second.code, 0) << second.out;
+  EXPECT_NE(second.out.find("L3: job " + job), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("stopped with a checkpoint"), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("submitted again with more time"), std::string::npos) << second.out;
+  const nlohmann::json again = json_of(out / "slurm" / "jobs.json");
+  EXPECT_EQ(again["variants"]["L3"]["minutes"].get<long>(), 2 * minutes);
+  EXPECT_EQ(again["variants"]["L3"]["submissions"].get<int>(), 2);
+  const nlohmann::json resubmission = again["submissions"][2];  // variants, analysis, then this one
+  EXPECT_EQ(resubmission["kind"], "variants");
+  EXPECT_NE(resubmission["sbatch"].dump().find("\"--time=" + std::to_string(2 * minutes) + "\""), std::string::npos)
+      << resubmission.dump();
+  ASSERT_TRUE(wait_for_jobs(out)) << "the jobs did not leave the queue in time";
+  const nlohmann::json done = json_of(variant / "summary.json");
+  EXPECT_EQ(done["stop_reason"], "t_end");
+  EXPECT_DOUBLE_EQ(done["t"].get<double>(), 2.0);
+  EXPECT_EQ(done["run_id"], stopped["run_id"]);  // the same run, continued
+  // One continuous series: every output time 0, 0.1, …, 2 once, and the output the stop wrote at
+  // t_stop (docs/scene-and-output.md §1.1) — unless t_stop is an output time itself.
+  const auto rows = capsflow_test::series_rows(variant);
+  std::size_t on_grid = 0, at_stop = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double t = rows[i].at("t");
+    if (i > 0) {
+      EXPECT_GT(t, rows[i - 1].at("t")) << i;  // no time twice, none back
+    }
+    if (std::abs(t - 0.1 * std::round(t / 0.1)) < 1e-9) {  // 1e-9: far above the CSV's round-trip precision, far below 0.1
+      ++on_grid;
+    } else if (std::abs(t - t_stop) < 1e-9) {
+      ++at_stop;
+    }
+  }
+  EXPECT_EQ(on_grid, 21u);
+  EXPECT_EQ(on_grid + at_stop, rows.size());
+  EXPECT_EQ(json_of(out / "study.json")["variants"][0]["state"], "finished");
+}
+
+TEST_F(SlurmStudy, RefusalsAreOneLineAndSubmitNothing) {
   TempDir d;
   const fs::path out = d.path / "s";
   const std::string tiny = "study --levels 1 --set wall.model=membrane --set time.t_end=0.02 --scheduler slurm -o " + out.string();
