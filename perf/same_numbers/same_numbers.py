@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Same-numbers check for refactors that must not change results (issue 22 item 8).
 
-  run:     same_numbers.py run EXE OUTDIR     every scene in scenes/ to γ̇t = 0.3 and the built-in
+  run:     same_numbers.py run EXE OUTDIR [CASE...]
+                                             every scene in scenes/ to γ̇t = 0.3 and the built-in
                                              scene to γ̇t = 2, one at a time, on one thread (so no
                                              reduction order can differ between the two builds)
   compare: same_numbers.py compare DIR_A DIR_B
@@ -32,11 +33,13 @@ def cases(root):
     yield "builtin", ["--set", "time.t_end=2"]
 
 
-def run(exe, outdir):
+def run(exe, outdir, only=()):
     root = pathlib.Path(__file__).resolve().parents[2]
     outdir = pathlib.Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     for name, args in cases(root):
+        if only and name not in only:
+            continue
         cmd = [exe, "run", *args, "-o", str(outdir / name), "--overwrite", "--threads", "1"]
         print(" ".join(cmd), flush=True)
         rc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL).returncode
@@ -99,8 +102,8 @@ def compare(dir_a, dir_b):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 4 and sys.argv[1] == "run":
-        run(sys.argv[2], sys.argv[3])
+    if len(sys.argv) >= 4 and sys.argv[1] == "run":
+        run(sys.argv[2], sys.argv[3], sys.argv[4:])
     elif len(sys.argv) == 4 and sys.argv[1] == "compare":
         sys.exit(compare(sys.argv[2], sys.argv[3]))
     else:

@@ -72,11 +72,10 @@ int info_command(const InfoOptions& opt) {
     dyn.velocity(mesh.vertices, v);
     seconds_per_eval = clock.seconds();
     SpectralRadiusEstimator power;
-    const SpectralRadiusEstimator::Result r =
-        power.estimate([&dyn](const Points& x, Points& w) { dyn.velocity(x, w); }, mesh.vertices, v);
-    rho = Rkc::Options{}.rho_margin * r.sigma;
+    const SpectralRadiusEstimator::Result r = power.estimate(dyn, mesh.vertices, v);
+    rho = kSpectralRadiusMargin * r.sigma;
     fmt::print("spectral radius {:.3e} by power iteration ({} evaluations{}; × {:g} margin), analytic {:.3e} (ratio {:.2f})\n",
-               rho, r.evaluations, r.converged ? "" : ", NOT converged", Rkc::Options{}.rho_margin, rho_analytic,
+               rho, r.evaluations, r.converged ? "" : ", NOT converged", kSpectralRadiusMargin, rho_analytic,
                rho / rho_analytic);
     fmt::print("evaluation      {:.3g} s per right-hand-side evaluation (measured, {} threads)\n", seconds_per_eval,
                omp_get_max_threads());

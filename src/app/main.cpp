@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
+#include <spdlog/cfg/env.h>
 
 #include <climits>
 #include <csignal>
@@ -41,6 +42,7 @@ constexpr int kMaxThreads = 4096;
 
 int main(int argc, char** argv) {
   prefer_passive_openmp_wait(argv);
+  spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug|trace: e.g. every step attempt (docs/scene-and-output.md §1.5)
   // A file-size limit (ulimit -f) would kill the run with SIGXFSZ mid-write; ignored, the write
   // fails with EFBIG and takes the full-disk path: exit 1, the last good checkpoint kept.
   std::signal(SIGXFSZ, SIG_IGN);

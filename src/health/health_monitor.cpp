@@ -28,10 +28,7 @@ constexpr double kMinAngleDeg = 10.0, kMaxAspect = 8.0;
 constexpr double kNoEquilibriumStretch = 3.0, kNoEquilibriumGrowth = 0.03;
 // ... unless the growth is slowing down towards an equilibrium in sight: the increments of the length
 // over the last two half units, d1 then d2 < d1, extrapolated as a geometric series, end below this
-// multiple of the current length. Measured in the stress campaign (2026-11-30, a/b = 4, Ca_s = 10,
-// planar hyperbolic): Skalak C = 10's largest stretch grows 2.62 → 3.00 after 1.98 → 2.62 (ratio 0.6:
-// an equilibrium), NH's 1.95 → 3.04 after 1.22 → 1.95 (accelerating: none). The largest stretch itself
-// jumps where a fold sharpens (NH sphere, Ca_s = 3, shear, 3.28 → 3.32 in 0.2 after 0.01 per 0.1).
+// multiple of the current length (the stretch histories that set it: docs/health-monitors.md §4.1).
 constexpr double kEquilibriumInSight = 2.0;
 // A membrane's grid-scale oscillation is buckling only where the wall is compressed: the facets
 // within this many reference edge lengths of the worst node are searched for a negative tension.
@@ -228,7 +225,7 @@ void HealthMonitor::set_state(const nlohmann::json& j) {
     events_.push_back({*from_string<HealthCondition>(e.at("condition").get<std::string>()), e.at("t"), e.at("message")});
   for (size_t i = 0; i < active_.size() && i < j.at("active").size(); ++i) active_[i] = j.at("active")[i];
   length_history_.clear();
-  // Checkpoints before 2026-12-01 kept the largest stretch instead: the history then starts afresh.
+  // Older checkpoints kept the largest stretch instead (docs/health-monitors.md §4.1): the history starts afresh.
   if (j.contains("length_history"))
     for (const auto& p : j.at("length_history")) length_history_.emplace_back(p[0].get<double>(), p[1].get<double>());
 }

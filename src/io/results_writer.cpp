@@ -247,6 +247,24 @@ void ResultsWriter::write_step(double t, const Points& positions, const NamedFie
   rewrite_xdmf();
 }
 
+void ResultsWriter::write_profiles(const std::vector<PlaneProfile>& planes) {
+  const State& s = *s_;
+  if (s.steps.empty()) throw std::logic_error("write_profiles: no step written yet");
+  h5::File f = h5::File::open(s.h5_path(), h5::File::Mode::read_write, true);
+  const std::string name = fmt::format("profiles/{:06}", s.steps.size() - 1);
+  if (f.exists(name)) f.remove(name);  // left over from a run continued by --restart
+  {
+    h5::Group g = f.require_group(name);
+    g.set_attribute("time", s.steps.back().time);
+    for (const PlaneProfile& p : planes) {
+      h5::Group pg = g.require_group(p.plane);
+      pg.write_matrix("points", p.points);
+      pg.write_vector("offsets", p.offsets);
+    }
+  }
+  f.close();  // all object handles are closed above, so the file is really closed here
+}
+
 void ResultsWriter::append_row(const CsvRow& row) {
   if (!s_->csv) s_->csv.emplace(s_->folder / kTimeseriesCsv);
   s_->csv->append_row(row);

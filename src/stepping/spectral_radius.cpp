@@ -5,7 +5,7 @@
 
 namespace capsflow {
 
-SpectralRadiusEstimator::Result SpectralRadiusEstimator::estimate(const Rhs& f, const Points& y, const Points& fy,
+SpectralRadiusEstimator::Result SpectralRadiusEstimator::estimate(RightHandSide& f, const Points& y, const Points& fy,
                                                                   int max_iter, double rel_tol) {
   Result r;
   const double eps = std::numeric_limits<double>::epsilon();
@@ -22,7 +22,7 @@ SpectralRadiusEstimator::Result SpectralRadiusEstimator::estimate(const Rhs& f, 
   double sigma_prev = 0;
   for (int it = 0; it < max_iter; ++it) {
     yv_.noalias() = y + (delta / dir_.norm()) * dir_;
-    f(yv_, fv_);
+    f.evaluate(yv_, fv_, {EvaluationHint::Role::Probe, 0});
     ++r.evaluations;
     dir_.noalias() = fv_ - fy;
     const double dnorm = dir_.norm();

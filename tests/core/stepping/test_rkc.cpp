@@ -25,11 +25,11 @@ double amplification(const RkcCoefficients& k, double z) {
 }
 
 // The decoupled diagonal system y' = −diag(λ) y, stored 3 components per "node".
-Rkc::Rhs diagonal_rhs(const Eigen::VectorXd& lambda) {
-  return [lambda](const Points& y, Points& v) {
+FunctionRhs diagonal_rhs(const Eigen::VectorXd& lambda) {
+  return FunctionRhs([lambda](const Points& y, Points& v) {
     v.resize(y.rows(), 3);
     for (Eigen::Index i = 0; i < y.rows(); ++i) v.row(i) = -lambda[i] * y.row(i);
-  };
+  });
 }
 
 }  // namespace
@@ -74,7 +74,7 @@ TEST(RkcCoefficients, StabilityIntervalIsMeasuredWhereTheClosedFormSaysAndGrowsL
 
 TEST(Rkc, SecondOrderOnASmoothNonlinearProblem) {
   // y' = −y² per component, y(t) = y0/(1 + y0 t): fixed steps, order from three step sizes.
-  const Rkc::Rhs f = [](const Points& y, Points& v) { v = -y.cwiseProduct(y); };
+  FunctionRhs f([](const Points& y, Points& v) { v = -y.cwiseProduct(y); });
   Points y0(2, 3);
   y0 << 1.0, 0.5, 2.0, 0.25, 1.5, 0.75;
   const double T = 1;
@@ -105,7 +105,7 @@ TEST(Rkc, StiffLinearSystemMeetsTheToleranceAndCostGrowsLikeSqrtRho) {
     Eigen::VectorXd lambda(n);
     for (int i = 0; i < n; ++i) lambda[i] = scale * std::pow(1e4, static_cast<double>(i) / (n - 1));
     lambda[0] = 1;  // the slow mode sets the accuracy step in every run
-    const Rkc::Rhs f = diagonal_rhs(lambda);
+    FunctionRhs f = diagonal_rhs(lambda);
     Points y0 = Points::Ones(n, 3);
     Rkc::Options o;
     o.tolerance = tol;
@@ -143,7 +143,7 @@ TEST(Rkc, StiffLinearSystemMeetsTheToleranceAndCostGrowsLikeSqrtRho) {
 
 TEST(Rkc, RejectsATooLargeStepAndKeepsTheState) {
   const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(4, 1.0);
-  const Rkc::Rhs f = diagonal_rhs(lambda);
+  FunctionRhs f = diagonal_rhs(lambda);
   Rkc::Options o;
   o.tolerance = 1e-8;
   Rkc rkc(o);

@@ -3,7 +3,8 @@
 //
 //   DIR/run.h5          /mesh/triangles (int32 M×3), /mesh/reference_positions (float64 N×3),
 //                       /metadata, /steps/<k>/{positions, <fields>} with attribute `time`,
-//                       /timing (written at the end)
+//                       /profiles/<k>/<plane>/{points, offsets} with attribute `time` (the
+//                       cross-sections of output k: write_profiles), /timing (written at the end)
 //   DIR/run.xmf         XDMF index for ParaView, rewritten atomically after every step; absent
 //                       while there is no step (ParaView's XDMF Reader crashes on an empty one).
 //                       ParaView users: open run.xmf with the "XDMF Reader" (see xdmf.hpp).
@@ -45,6 +46,13 @@ inline constexpr std::int64_t kOutputSchemaVersion = 1;
 using NamedField = std::pair<std::string, Eigen::MatrixXd>;
 using NamedFields = std::vector<NamedField>;
 
+// The cross-section of the surface in one plane: polylines as points and offsets (write_profiles).
+struct PlaneProfile {
+  std::string plane;  // the group name, e.g. "x1x2"
+  Points points;
+  Eigen::VectorXi offsets;
+};
+
 class ResultsWriter {
  public:
   // New run in a prepared folder (see output_folder.hpp). Creates run.h5 with the mesh and the
@@ -73,6 +81,12 @@ class ResultsWriter {
   // Throws std::invalid_argument for wrong shapes, duplicate or reserved names, or t not
   // greater than the last step's time; std::runtime_error for I/O failures.
   void write_step(double t, const Points& positions, const NamedFields& nodal_fields = {});
+
+  // Cross-sections of the last written step as /profiles/<k> (k: its position among the steps,
+  // six digits), one group per plane: `points` (M×3, the polylines one after another) and
+  // `offsets` (int32, lines + 1: line i is points[offsets[i], offsets[i+1])). Kept beside /steps,
+  // whose groups hold nodal fields only. Replaces a group left by a run continued by --restart.
+  void write_profiles(const std::vector<PlaneProfile>& planes);
 
   // One row of timeseries.csv (header from the first row; see timeseries_csv.hpp).
   void append_row(const CsvRow& row);

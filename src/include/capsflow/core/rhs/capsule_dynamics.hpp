@@ -7,17 +7,17 @@
 // the O(h²) flux error of the P1 boundary integral (docs/time-integration.md §5.3) no longer
 // accumulates into volume drift.
 // Rotations are a slave variable (argmin of the bending + shear energy at given x): they are not
-// integrated in time. Integrators (stepping/heun.hpp, stepping/rkc.hpp) only call velocity().
+// integrated in time. Time schemes (stepping/) call it through RightHandSide::evaluate.
 //
 // Inner solvers never fail silently: a rotation Newton solve that does not converge is retried
 // once from the nodal normals (counted in RhsCounters::rotation_fresh_starts); if that fails too,
 // or the mass-matrix CG stops at its iteration cap, or the velocity is not finite, velocity()
 // throws SolverFailure with a one-line description.
 #include <memory>
-#include <stdexcept>
 
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/rhs/right_hand_side.hpp"
 #include "capsflow/core/scene/scene.hpp"
 #include "capsflow/shell/load_recovery.hpp"
 #include "capsflow/shell/wall.hpp"
@@ -31,12 +31,7 @@ struct RhsCounters {
   long rotation_fresh_starts = 0;  // Newton solves retried from the nodal normals
 };
 
-class SolverFailure : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-class CapsuleDynamics {
+class CapsuleDynamics final : public RightHandSide {
  public:
   // The wall is the scene's (rhs/wall_factory.hpp) unless one is given (tests).
   CapsuleDynamics(const Scene& scene, const SurfaceMesh& reference, int threads = 0,
@@ -44,16 +39,15 @@ class CapsuleDynamics {
 
   // v(x) and, as by-products, the load q and R_s of this evaluation. Throws SolverFailure.
   void velocity(const Points& x, Points& v);
+  void evaluate(const Points& x, Points& v, const EvaluationHint&) override { velocity(x, v); }
 
   const Points& load() const { return q_; }
-  const Points& internal_forces() const { return R_; }
   shell::Wall& wall() { return *wall_; }
   const shell::Wall& wall() const { return *wall_; }
   const SingleLayer& single_layer() const { return bie_; }
   // Seconds per phase, the boundary integral's phases included.
   PhaseTimes times() const;
   const RhsCounters& counters() const { return counters_; }
-  const shell::WallStats& last_wall_stats() const { return last_stats_; }
   const Mat3& gradient() const { return L_; }
 
  private:

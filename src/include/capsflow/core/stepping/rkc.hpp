@@ -15,23 +15,28 @@
 //      as the RMS over nodes of |Est_i| in units of ℓ, against `tolerance`; the step is accepted
 //      when err = RMS/tolerance ≤ 1, and the next τ follows from err^(−1/3) (local error O(τ³)).
 // With error_control = false every step is accepted at the given τ (stages still from ρ).
+//
+// As a TimeStepper: the step is the controller's proposal (or the fixed `fixed_dt` without error
+// control); the last stretch before an output time is cut into equal steps of at most 1.2× the
+// proposal rather than full steps and a sliver.
 #include <functional>
 #include <utility>
 #include <nlohmann/json_fwd.hpp>
 
 #include "capsflow/core/stepping/rkc_coefficients.hpp"
 #include "capsflow/core/stepping/spectral_radius.hpp"
+#include "capsflow/core/stepping/time_stepper.hpp"
 #include "capsflow/core/types.hpp"
 
 namespace capsflow {
 
-class Rkc {
+class Rkc final : public TimeStepper {
  public:
-  using Rhs = std::function<void(const Points& x, Points& v)>;
   struct Options {
     double tolerance = 1e-4;      // local error per step, RMS over nodes, in units of ℓ
     bool error_control = true;
-    double rho_margin = 1.2;      // ρ = margin × power-iteration estimate (it converges from below)
+    double fixed_dt = 0;          // the step without error control (next_step)
+    double rho_margin = kSpectralRadiusMargin;  // ρ = margin × power-iteration estimate
     int rho_refresh_steps = 10;   // RKC refreshes every 25 steps; ours are long (see docs)
     int max_stages = 250;         // round-off in the Chebyshev recurrence grows like s²·ε
     double damping = RkcCoefficients::kDefaultDamping;
@@ -54,9 +59,9 @@ class Rkc {
       : opt_(std::move(opt)), beta_max_(RkcCoefficients::stability_interval(opt_.max_stages, opt_.damping)) {}
 
   // One attempt of size tau from x. Accepted: x ← y_{n+1}. Rejected: x unchanged.
-  StepReport step(const Rhs& f, Points& x, double tau);
+  StepReport step(RightHandSide& f, Points& x, double tau);
   // The controller's proposal for the next step (before clipping to output times).
-  double proposed_step(const Rhs& f, const Points& x);
+  double proposed_step(RightHandSide& f, const Points& x);
 
   double spectral_radius() const { return rho_; }  // margin included; 0 before the first estimate
   long rho_evaluations() const { return rho_evaluations_; }
@@ -67,6 +72,16 @@ class Rkc {
   void forget_velocity() { f0_valid_ = false; }
   const Options& options() const { return opt_; }
 
+  // TimeStepper
+  double next_step(RightHandSide& f, const Points& x, const StepRequest& r) override;
+  StepAttempt attempt(RightHandSide& f, Points& x, double dt) override;
+  const Points* velocity_at_state() const override { return at_state_ && f0_valid_ ? &f0_ : nullptr; }
+  void forget_state() override { forget_velocity(); }
+  void save(nlohmann::json& extra, Eigen::MatrixXd& matrix) const override;
+  void load(const nlohmann::json& extra, const Eigen::MatrixXd& matrix, const Points& x) override;
+  std::string status() const override;
+  void summarize(nlohmann::json& summary, const Points& x, long steps) const override;
+
   // Everything a restart needs to continue bit for bit: scalars as JSON, F_n and the power
   // iteration's direction as matrices.
   nlohmann::json scalar_state() const;
@@ -75,7 +90,7 @@ class Rkc {
   void set_matrix_state(const Eigen::MatrixXd& m);
 
  private:
-  void refresh_rho(const Rhs& f, const Points& x);
+  void refresh_rho(RightHandSide& f, const Points& x);
   double rms(const Points& v) const;
 
   Options opt_;
@@ -90,6 +105,9 @@ class Rkc {
   bool f0_valid_ = false;
   double tau_next_ = 0, tau_prev_ = 0, err_prev_ = 0;
   bool last_rejected_ = false;
+  bool at_state_ = false;  // the last evaluation was F(y_{n+1}) of an accepted step: the current state
+  long stages_total_ = 0, stages_max_ = 0;  // over accepted steps (all segments)
+  int last_stages_ = 0;
 };
 
 }  // namespace capsflow

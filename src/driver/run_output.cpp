@@ -1,0 +1,103 @@
+// What the run writes at output times (run.h5 step, profiles, a timeseries.csv row) and at
+// checkpoints (docs/scene-and-output.md §3).
+#include <fmt/core.h>
+
+#include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/core/geometry/profiles.hpp"
+#include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/version.hpp"
+#include "simulation_impl.hpp"
+
+namespace capsflow {
+
+namespace {
+// Cross-sections in the three coordinate planes through the volume centroid, as the writer stores them.
+std::vector<io::PlaneProfile> profiles_of(const SurfaceMesh& cur) {
+  std::vector<io::PlaneProfile> planes;
+  const Vec3 c = volume_moments(cur).centroid;
+  for (CoordinatePlane p : {CoordinatePlane::X1X2, CoordinatePlane::X1X3, CoordinatePlane::X2X3}) {
+    const auto lines = cross_section(cur, p, c);
+    long n = 0;
+    for (const auto& l : lines) n += static_cast<long>(l.points.size());
+    io::PlaneProfile pr{to_string(p), Points(n, 3), Eigen::VectorXi(static_cast<Eigen::Index>(lines.size() + 1))};
+    long k = 0;
+    pr.offsets[0] = 0;
+    for (size_t i = 0; i < lines.size(); ++i) {
+      for (const auto& pt : lines[i].points) pr.points.row(k++) = pt.transpose();
+      pr.offsets[static_cast<Eigen::Index>(i + 1)] = static_cast<int>(k);
+    }
+    planes.push_back(std::move(pr));
+  }
+  return planes;
+}
+}  // namespace
+
+// Loads, energies and velocities of the state itself, not of whatever stage the scheme evaluated
+// last: its F(x) when its last evaluation was here; otherwise evaluate.
+const Points& Simulation::Impl::state_velocity() {
+  if (const Points* v = stepper->velocity_at_state()) {
+    v_out = *v;
+  } else {
+    dyn->velocity(st.x, v_out);
+    stepper->forget_state();  // the warm start moved: recompute F(x) (restart-safe)
+  }
+  return v_out;
+}
+
+void Simulation::Impl::write_output() {
+  const SurfaceMesh cur{st.x, ref.triangles};
+  last_shape = shape_diagnostics(cur);
+  const auto& s = last_shape;
+  state_velocity();
+  far_check->update(dyn->single_layer(), st.t);
+  const shell::WallEnergies en = dyn->wall().energies(st.x);
+  io::NamedFields fields;
+  if (scene.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out);
+  if (scene.wants_field(OutputField::Load)) fields.emplace_back("load", dyn->load());
+  if (scene.wants_field(OutputField::Energy)) {
+    Eigen::VectorXd Em, Eb, Esh;
+    dyn->wall().nodal_energy_maps(st.x, Em, Eb, Esh);
+    fields.emplace_back("E_membrane", Em);
+    fields.emplace_back("E_bending", Eb);
+    fields.emplace_back("E_shear", Esh);
+  }
+  out->write_step(st.t, st.x, fields);
+  out->write_profiles(profiles_of(cur));
+  io::CsvRow row = {{"t", st.t}, {"step", static_cast<double>(st.step)}, {"dt", st.dt},
+                    {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
+                    {"Le1", s.Le[0]}, {"Le2", s.Le[1]}, {"Le3", s.Le[2]}, {"L1", s.L[0]}, {"L2", s.L[1]}, {"L3", s.L[2]},
+                    {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
+                    {"E_membrane", en.membrane}, {"E_bending", en.bending}, {"E_shear", en.shear},
+                    {"steady_measure", steady->measure()}, {"wall_seconds", wall_seconds()}};
+  for (const auto& [name, value] : health->columns()) row.emplace_back(name, value);
+  far_check->append_columns(row);  // fluid.verify_every > 0 only
+  out->append_row(row);
+  last_output_t = st.t;
+}
+
+void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
+  io::CheckpointState ck;
+  ck.step = st.step;
+  ck.t = st.t;
+  ck.dt = st.dt;
+  ck.positions = st.x;
+  ck.reference_positions = ref.vertices;
+  ck.triangles = ref.triangles;
+  ck.wall_state = dyn->wall().state();
+  ck.history = steady->history();
+  ck.scene_toml = to_toml(scene);
+  ck.scene_resolved = to_json(scene).dump();
+  ck.version = fmt::format("{} ({})", version_string(), git_hash());
+  RunState s = st;
+  s.wall_seconds_before = wall_seconds();
+  s.rhs_evaluations = rhs_evaluations();
+  nlohmann::json extra = s.extra();
+  extra["health"] = health->state();
+  stepper->save(extra, ck.integrator_state);
+  if (far_check->enabled()) extra["far_field_check"] = far_check->state(dyn->single_layer());
+  ck.extra = extra.dump();
+  ck.run_id = run_id;
+  io::write_checkpoint(path, ck);
+}
+
+}  // namespace capsflow

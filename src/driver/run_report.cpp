@@ -1,0 +1,105 @@
+// What the run tells: the status line (and the caller's progress callback), the per-phase timing
+// table, summary.json (docs/scene-and-output.md §3.5) and the closing log.
+#include <sys/resource.h>
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <fmt/core.h>
+
+#include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/core/io/version.hpp"
+#include "simulation_impl.hpp"
+
+namespace capsflow {
+
+namespace {
+
+std::string hms(double s) {
+  if (!std::isfinite(s) || s > 1e9) return "?";
+  const long t = static_cast<long>(s + 0.5);
+  return t >= 3600 ? fmt::format("{}h{:02}m", t / 3600, (t / 60) % 60) : fmt::format("{}m{:02}s", t / 60, t % 60);
+}
+
+// The process's peak resident memory so far (getrusage maxrss, kB on Linux), in MB.
+double peak_rss_mb() {
+  rusage u{};
+  return getrusage(RUSAGE_SELF, &u) == 0 ? static_cast<double>(u.ru_maxrss) / 1024.0 : 0.0;
+}
+
+}  // namespace
+
+void Simulation::Impl::report_progress(bool force) {
+  if (!force && report_clock.seconds() < opt.progress_interval) return;
+  report_clock.restart();
+  const double seg = segment_clock.seconds();
+  const long evals = dyn->counters().evaluations;
+  const double per_eval = evals ? seg / static_cast<double>(evals) : 0;
+  const double t_end = scene.time.t_end;
+  // ETA from the simulated time per wall second of this segment (RKC's step varies).
+  const double done = st.t - t_segment_start;
+  const double eta = done > 0 ? seg * (t_end - st.t) / done : NAN;
+  const double drift = enclosed_volume(SurfaceMesh{st.x, ref.triangles}) / st.volume0 - 1;
+  spdlog::info("step {:>7}  t {:.4f}/{:g} ({:5.1f}%)  dt {:.2e}  {} rej {:>3}  evals {:>7} ({:.1f} ms)  ETA {}  dV/V {:+.1e}  steady {:.1e} (tol {:.0e})  health {}",
+               st.step, st.t, t_end, 100 * st.t / t_end, st.dt, stepper->status(), st.rejected_steps, rhs_evaluations(),
+               1e3 * per_eval, hms(eta), drift, steady->measure(), scene.time.steady_tol, health->status());
+  if (opt.on_progress) opt.on_progress({st.step, st.t, t_end, st.dt, rhs_evaluations(), wall_seconds(), eta, drift, steady->measure(), health->status()});
+}
+
+nlohmann::json Simulation::Impl::timing_table() const {
+  const PhaseTimes p = dyn->times();
+  const RhsCounters& n = dyn->counters();
+  const double total = wall_seconds() - st.wall_seconds_before;
+  // "other" is what the phases do not cover (the scheme's updates, diagnostics, output).
+  nlohmann::json phases = nlohmann::json::object();
+  double known = 0;
+  for (std::size_t i = 0; i < kPhaseNames.size(); ++i) {
+    const Phase ph = static_cast<Phase>(i);
+    if (ph == Phase::Other) continue;
+    phases[kPhaseNames[i]] = p[ph];
+    known += p[ph];
+  }
+  phases[kPhaseNames[static_cast<std::size_t>(Phase::Other)]] = std::max(0.0, total - known);
+  return {{"total_seconds", total}, {"steps", steps_this_segment}, {"rhs_evaluations", n.evaluations},
+          {"seconds_per_evaluation", n.evaluations ? total / static_cast<double>(n.evaluations) : 0},
+          {"seconds_per_step", steps_this_segment ? total / static_cast<double>(steps_this_segment) : 0},
+          {"phases", phases},
+          {"iterations", {{"newton", n.newton_iterations}, {"rotation_cg", n.cg_iterations}, {"mass_cg", n.mass_cg_iterations},
+                          {"rotation_fresh_starts", n.rotation_fresh_starts}}}};
+}
+
+// summary.json without stop_reason and timing (Simulation::finish adds them).
+nlohmann::json Simulation::Impl::summary() const {
+  const auto& s = last_shape;
+  nlohmann::json summary = {
+      {"t", st.t}, {"steps", st.step}, {"steady", steady->steady()},
+      {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
+      {"L", {s.L[0], s.L[1], s.L[2]}}, {"Le", {s.Le[0], s.Le[1], s.Le[2]}},
+      {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
+      {"wall_seconds", wall_seconds()}, {"elements", ref.num_elements()}, {"nodes", ref.num_nodes()},
+      {"backend", to_string(dyn->single_layer().backend())}, {"backend_reason", dyn->single_layer().backend_reason()},
+      {"fmm_order", dyn->single_layer().fmm_order()}, {"threads", threads},
+      {"steady_measure", steady->measure()}, {"scene", to_json(scene)},
+      {"version", version_string()}, {"git", git_hash()},
+      {"scheme", to_string(scene.time.scheme)}, {"rhs_evaluations", rhs_evaluations()},
+      {"rejected_steps", st.rejected_steps}};
+  stepper->summarize(summary, st.x, st.step);
+  summary["health"] = health->summary();
+  if (far_check->enabled()) summary["far_field_check"] = far_check->summary(dyn->single_layer());
+  summary["peak_rss_mb"] = peak_rss_mb();
+  summary["run_id"] = run_id;
+  summary["mesh_hash"] = mesh_hash;
+  return summary;
+}
+
+void Simulation::Impl::log_finish(const nlohmann::json& timing) const {
+  const auto& s = last_shape;
+  spdlog::info("phase                       seconds   share");
+  const double total = timing["total_seconds"].get<double>();
+  for (const auto& [k, v] : timing["phases"].items())
+    spdlog::info("  {:<26}{:>8.2f}  {:>5.1f}%", k, v.get<double>(), total > 0 ? 100 * v.get<double>() / total : 0);
+  spdlog::info("D12 {:.4f}  D13 {:.4f}  D23 {:.4f}  L {:.3f} {:.3f} {:.3f}  Le {:.3f} {:.3f} {:.3f}", s.D.D12, s.D.D13, s.D.D23,
+               s.L[0], s.L[1], s.L[2], s.Le[0], s.Le[1], s.Le[2]);
+}
+
+}  // namespace capsflow

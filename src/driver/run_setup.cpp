@@ -1,0 +1,140 @@
+// Everything before the first step (Simulation::set_up): the restart plan or the new scene, the
+// output folder, the right-hand side, the scheme and the monitors, the state, the results writer.
+#include <omp.h>
+#include <spdlog/spdlog.h>
+
+#include <fmt/core.h>
+
+#include "capsflow/core/driver/time_grid.hpp"
+#include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/core/geometry/taylor_deformation.hpp"
+#include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/output_folder.hpp"
+#include "capsflow/core/io/run_identity.hpp"
+#include "capsflow/core/io/version.hpp"
+#include "capsflow/core/mesh/reference_mesh.hpp"
+#include "simulation_impl.hpp"
+
+namespace capsflow {
+
+void Simulation::Impl::set_up() {
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  threads = omp_get_max_threads();
+  // Issue 27's run-folder lock belongs at the top of set_up_folder: before any overwrite or
+  // restart decision touches the folder.
+  io::CheckpointState ck;
+  set_up_folder(ck);
+  mesh_hash = io::mesh_hash(ref.vertices, ref.triangles);
+  steady = std::make_unique<SteadyStateDetector>(scene.time.steady_tol);
+  dyn = std::make_unique<CapsuleDynamics>(scene, ref, threads);
+  health = std::make_unique<HealthMonitor>(scene, ref);
+  instability = InstabilityWatch(scene.fluid.volume_correction ? InstabilityWatch::Volume::Corrected
+                                                               : InstabilityWatch::Volume::Uncorrected);
+  far_check = std::make_unique<FarFieldWatch>(scene.fluid.verify_every, scene.fluid.tolerance);
+  if (!opt.restart.empty()) {
+    restore(ck);
+  } else {
+    st.x = ref.vertices;
+    st.volume0 = enclosed_volume(ref);
+    st.area0 = surface_area(ref);
+    const TaylorDeformation d = taylor_deformation(inertia_ellipsoid(ref));
+    steady->add(0.0, st.area0, {d.D12, d.D13, d.D23});
+  }
+  const nlohmann::json meta = metadata();
+  out = opt.restart.empty() || restart.new_folder ? std::make_unique<io::ResultsWriter>(folder, ref, meta)
+                                                  : std::make_unique<io::ResultsWriter>(io::ResultsWriter::reopen(folder, st.t, meta));
+  log_set_up();
+  stepper = make_time_stepper(scene, ref.triangles, st.volume0, st.x);
+  if (!opt.restart.empty()) {
+    const auto e = nlohmann::json::parse(ck.extra);
+    stepper->load(e, ck.integrator_state, st.x);
+  }
+  // Issue 27's first checkpoint, as soon as the run starts, belongs here.
+  if (opt.restart.empty()) observe_health();  // the reference state: no episode can begin here
+  effort_mark = dyn->counters();
+  if (opt.restart.empty() || restart.new_folder) write_output();
+  else last_shape = shape_diagnostics(SurfaceMesh{st.x, ref.triangles});
+  t_segment_start = st.t;
+}
+
+void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
+  if (!opt.restart.empty()) {
+    io::LoadedCheckpoint loaded = io::load_checkpoint_for_restart(opt.restart);
+    if (!loaded.fallback_reason.empty())
+      spdlog::warn("{}; continuing from the previous checkpoint {} (t = {:g})", loaded.fallback_reason, loaded.path.string(),
+                   loaded.state.t);
+    ck = std::move(loaded.state);
+    checkpoint_path = loaded.path;
+    restart = plan_restart(ck, loaded.path, opt.restart_overrides, opt.output_dir);  // refuses before any write
+    scene = restart.scene;
+    folder = restart.folder;
+    if (restart.new_folder) io::prepare_output_folder(folder, false);
+    else if (const auto removed = io::open_output_folder_for_restart(folder).removed; !removed.empty())
+      spdlog::info("removed {} temporaries left by killed runs (first: {})", removed.size(), removed.front().filename().string());
+    ref = SurfaceMesh{ck.reference_positions, ck.triangles};
+    run_id = restart.run_id;
+  } else {
+    scene = opt.scene;
+    folder = opt.output_dir;
+    ref = make_reference_mesh(scene.mesh);  // validates a user mesh before touching the folder
+    const io::PreparedFolder prepared = io::prepare_output_folder(folder, opt.overwrite);
+    if (!prepared.kept.empty())
+      spdlog::info("output folder: kept {} entries capsflow did not write (first: {})", prepared.kept.size(),
+                   prepared.kept.front().filename().string());
+    run_id = io::new_run_id();
+  }
+}
+
+void Simulation::Impl::restore(const io::CheckpointState& ck) {
+  st.x = ck.positions;
+  st.t = ck.t;
+  st.dt = ck.dt;
+  st.step = ck.step;
+  dyn->wall().set_state(ck.wall_state);
+  steady->set_history(ck.history);
+  const auto e = nlohmann::json::parse(ck.extra);
+  st.set_extra(e);
+  if (e.contains("far_field_check")) far_check->set_state(e.at("far_field_check"));
+  // A changed output.every or checkpoint_every counts its index from the checkpoint time.
+  const Scene stored = parse_scene(ck.scene_toml, "checkpoint");
+  st.next_output = restart_index(e.at("next_output").get<std::int64_t>(), stored.output.every, scene.output.every, st.t);
+  st.next_checkpoint = restart_index(e.at("next_checkpoint").get<std::int64_t>(), stored.output.checkpoint_every,
+                                     scene.output.checkpoint_every, st.t);
+  if (e.contains("health")) health->set_state(e.at("health"));
+  last_output_t = st.t;
+}
+
+nlohmann::json Simulation::Impl::metadata() const {
+  nlohmann::json meta = {{"scene_toml", scene.toml_text}, {"scene_resolved", to_json(scene)},
+                         {"command_line", opt.command_line}, {"version", version_string()},
+                         {"git_hash", git_hash()}, {"build", build_info()}, {"threads", threads},
+                         {"backend", to_string(dyn->single_layer().backend())},
+                         {"backend_reason", dyn->single_layer().backend_reason()},
+                         {"fmm_order", dyn->single_layer().fmm_order()}};
+  meta["run_id"] = run_id;
+  meta["mesh_hash"] = mesh_hash;
+  if (restart.new_folder) {
+    meta["parent_run_id"] = restart.parent_run_id;
+    meta["parent_checkpoint"] = std::filesystem::absolute(checkpoint_path).lexically_normal().string();
+    meta["t_start"] = st.t;
+  }
+  return meta;
+}
+
+void Simulation::Impl::log_set_up() const {
+  spdlog::info("capsflow {} (git {}), {} threads", version_string(), git_hash(), threads);
+  spdlog::info("scene {}: {} elements, {} nodes, wall {} {}, flow {}, Ca_s = {:g}", scene.source, ref.num_elements(),
+               ref.num_nodes(), to_string(scene.wall.model), shell::to_string(scene.wall.law), to_string(scene.flow.type),
+               scene.flow.ca_s);
+  spdlog::info("boundary integral: {} ({})", to_string(dyn->single_layer().backend()), dyn->single_layer().backend_reason());
+  spdlog::info("output: {}{}", folder.string(), opt.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st.t));
+  if (restart.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path.string());
+  if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
+  if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
+  if (scene.time.scheme_auto)
+    spdlog::info("time scheme: {} (auto: {})", to_string(scene.time.scheme),
+                 scene.wall.model == WallModel::Gsmb ? "error-controlled RKC for a wall with bending stiffness"
+                                                     : "Heun at its stability limit for a membrane wall");
+}
+
+}  // namespace capsflow

@@ -1,0 +1,23 @@
+// The run's own entries of a checkpoint's "extra" JSON (the scheme adds its own: TimeStepper::save).
+#include "simulation_impl.hpp"
+
+namespace capsflow {
+
+nlohmann::json RunState::extra() const {
+  return {{"next_output", next_output}, {"next_checkpoint", next_checkpoint}, {"volume0", volume0},
+          {"area0", area0}, {"wall_seconds", wall_seconds_before}, {"rejected_steps", rejected_steps},
+          {"rhs_evaluations", rhs_evaluations}};
+}
+
+void RunState::set_extra(const nlohmann::json& e) {
+  next_output = e.at("next_output");
+  next_checkpoint = e.at("next_checkpoint");
+  volume0 = e.at("volume0");
+  area0 = e.at("area0");
+  wall_seconds_before = e.at("wall_seconds");
+  // Written since the RKC integrator (absent in older checkpoints: zero).
+  rejected_steps = e.value("rejected_steps", 0L);
+  rhs_evaluations = e.value("rhs_evaluations", 0L);
+}
+
+}  // namespace capsflow

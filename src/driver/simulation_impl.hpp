@@ -1,0 +1,108 @@
+#pragma once
+// The parts of a Simulation (driver/simulation.hpp) and who does what with them; private to
+// src/driver/. Set-up: run_setup.cpp. The step: run.cpp. Outputs and checkpoints: run_output.cpp.
+// Progress line, timing table, summary.json: run_report.cpp. RunState: run_state.cpp.
+#include <atomic>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "capsflow/core/driver/far_field_watch.hpp"
+#include "capsflow/core/driver/restart_rules.hpp"
+#include "capsflow/core/driver/simulation.hpp"
+#include "capsflow/core/driver/stop_reason.hpp"
+#include "capsflow/core/geometry/shape_diagnostics.hpp"
+#include "capsflow/core/health/health_monitor.hpp"
+#include "capsflow/core/health/instability_watch.hpp"
+#include "capsflow/core/health/steady_state.hpp"
+#include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/results_writer.hpp"
+#include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/rhs/capsule_dynamics.hpp"
+#include "capsflow/core/stepping/time_stepper.hpp"
+
+namespace capsflow {
+
+// Everything that evolves, and what a checkpoint must carry to continue bit for bit (with the
+// scheme's own state, TimeStepper::save).
+struct RunState {
+  Points x;
+  double t = 0, dt = 0;
+  long step = 0;
+  long next_output = 1;      // index k of the next output time k·every
+  long next_checkpoint = 1;  // index of the next periodic checkpoint
+  double volume0 = 0, area0 = 0;
+  double wall_seconds_before = 0;  // wall time of earlier (restarted) segments
+  long rejected_steps = 0;         // steps retried with a smaller step (all segments)
+  long rhs_evaluations = 0;        // right-hand-side evaluations of earlier segments
+  nlohmann::json extra() const;    // the checkpoint's "extra" entries of the run itself
+  void set_extra(const nlohmann::json& e);
+};
+
+struct Simulation::Impl {
+  Impl(RunOptions o, const std::atomic<int>& stop_request) : opt(std::move(o)), stop_request(stop_request) {}
+
+  // run_setup.cpp
+  void set_up();
+  void set_up_folder(io::CheckpointState& ck);
+  void restore(const io::CheckpointState& ck);
+  nlohmann::json metadata() const;
+  void log_set_up() const;
+  // run.cpp: the step and what it is made of
+  std::optional<StopReason> step();
+  std::optional<StopReason> attempt_step(StepAttempt& a);
+  std::optional<StopReason> check_step(const StepAttempt& a);
+  void roll_back();
+  void write_due_outputs();
+  std::optional<StopReason> observe_health();
+  std::optional<StopReason> stop(StopReason r);
+  // run_output.cpp
+  const Points& state_velocity();
+  void write_output();
+  void write_checkpoint(const std::filesystem::path& path);
+  // run_report.cpp
+  void report_progress(bool force);
+  nlohmann::json timing_table() const;
+  nlohmann::json summary() const;
+  void log_finish(const nlohmann::json& timing) const;
+
+  double t_stop() const;        // the next output time or t_end
+  double time_to_stop() const;  // t_stop() − t, as the step control computes it
+  long rhs_evaluations() const { return st.rhs_evaluations + dyn->counters().evaluations; }
+  double wall_seconds() const { return st.wall_seconds_before + segment_clock.seconds(); }
+
+  RunOptions opt;
+  const std::atomic<int>& stop_request;  // Simulation::request_stop: 0 none, > 0 the signal, −1 a caller
+  Scene scene;
+  SurfaceMesh ref;
+  std::filesystem::path folder;
+  RestartPlan restart;                     // restart.new_folder: a new run folder started from the checkpoint
+  std::filesystem::path checkpoint_path;   // the checkpoint actually read (after a fallback: the previous one)
+  std::string run_id, mesh_hash;
+  int threads = 1;
+
+  std::unique_ptr<CapsuleDynamics> dyn;    // the right-hand side
+  std::unique_ptr<TimeStepper> stepper;    // the time scheme
+  std::unique_ptr<io::ResultsWriter> out;
+  std::unique_ptr<SteadyStateDetector> steady;
+  std::unique_ptr<HealthMonitor> health;
+  InstabilityWatch instability;            // geometric growth of the volume drift: a blow-up at its start
+  std::unique_ptr<FarFieldWatch> far_check;  // fluid.verify_every
+  RhsCounters effort_mark;                 // counters at the last health observation
+
+  RunState st;
+  std::optional<StopReason> stopped;
+  Stopwatch segment_clock, report_clock;
+  long steps_this_segment = 0;
+  int consecutive_rejections = 0;
+  double t_segment_start = 0;
+  double last_output_t = -1;
+  ShapeDiagnostics last_shape;
+  Points x_prev, v_out;
+  Eigen::VectorXd wall_prev;
+};
+
+}  // namespace capsflow

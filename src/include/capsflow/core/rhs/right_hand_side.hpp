@@ -1,0 +1,51 @@
+#pragma once
+// The seam between a time scheme and the physics: F(x) = dx/dt at positions x (N×3). The schemes
+// of stepping/ call nothing else; the capsule problem implements it (rhs/capsule_dynamics.hpp).
+//
+// An implementation may keep inner-solver warm starts from one call to the next (the GSMB rotation
+// solve does). The hint tells it where the point lies in the scheme, so that it can predict its
+// inner solve from earlier stages, or keep a spectral-radius probe from moving its warm start.
+// Today's implementation ignores it: evaluations are identical with any hint.
+#include <functional>
+#include <stdexcept>
+#include <utility>
+
+#include "capsflow/core/types.hpp"
+
+namespace capsflow {
+
+struct EvaluationHint {
+  enum class Role {
+    Trajectory,  // a state or stage of a step: the solution passes near it
+    Probe,       // y + δw of the spectral-radius power iteration: off the trajectory
+  };
+  Role role = Role::Trajectory;
+  int stage = 0;  // 0: at the step's start state y_n; j ≥ 1: the scheme's j-th stage point
+};
+
+// An inner solve of the right-hand side failed (one line: what, and how far it got). The run
+// keeps its last healthy state and stops as "solver_failure" (driver/stop_reason.hpp).
+class SolverFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class RightHandSide {
+ public:
+  virtual ~RightHandSide() = default;
+  // v = F(x); v is resized by the callee. Throws SolverFailure.
+  virtual void evaluate(const Points& x, Points& v, const EvaluationHint& hint) = 0;
+  void operator()(const Points& x, Points& v) { evaluate(x, v, EvaluationHint{}); }
+};
+
+// A right-hand side given as a function (tests, model problems).
+class FunctionRhs final : public RightHandSide {
+ public:
+  explicit FunctionRhs(std::function<void(const Points& x, Points& v)> f) : f_(std::move(f)) {}
+  void evaluate(const Points& x, Points& v, const EvaluationHint&) override { f_(x, v); }
+
+ private:
+  std::function<void(const Points& x, Points& v)> f_;
+};
+
+}  // namespace capsflow
