@@ -4,7 +4,7 @@
 # job or the test suite. Idempotent: a second call with nothing changed only re-checks and runs.
 #
 #   ./setup.sh run [capsflow run options...]   # default scene, output in ./capsflow-out
-#   ./setup.sh test                            # the default (unit) test suite
+#   ./setup.sh test                            # the default suite (labels unit and integration)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
@@ -40,5 +40,5 @@ if [[ $mode == run ]]; then
   if [[ $# -eq 0 ]]; then set -- -o capsflow-out --overwrite; fi
   exec "$build/bin/capsflow" run "$@"
 else
-  exec ctest --test-dir $build -L unit --output-on-failure -j2 --timeout 600 "$@"
+  exec ctest --test-dir $build -L 'unit|integration' --output-on-failure -j2 --timeout 600 "$@"
 fi
