@@ -117,11 +117,13 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
 }
 
 double Rkc::next_step(RightHandSide& f, const Points& x, const StepRequest& r) {
-  const double want = opt_.error_control ? proposed_step(f, x) : opt_.fixed_dt;
+  const double remaining = r.to_stop;
+  // A fixed time.dt is the user's bound: it lands by shortening, as Heun's does, never stretched.
+  if (!opt_.error_control) return std::min(opt_.fixed_dt, remaining);
+  const double want = proposed_step(f, x);
   // Land on the next output time in equal steps rather than full steps and a sliver: a sliver
   // costs an evaluation per stage like any step and advances little. Up to 20 % above the
   // proposal (its safety factor 0.8 leaves a factor 2 in the error).
-  const double remaining = r.to_stop;
   return want >= remaining ? remaining : remaining / std::ceil(remaining / (1.2 * want));
 }
 

@@ -48,17 +48,33 @@ TEST(HeunStepper, IsSecondOrderAndKeepsNoVelocity) {
   EXPECT_EQ(heun.next_step(f, x, {0.0, 0.05, 0}), 0.05);  // a fixed step is shortened to land
 }
 
-TEST(RkcStepper, LandsOnOutputTimesInEqualStepsOfAtMostTwentyPercentMore) {
+TEST(RkcStepper, ErrorControlledStepsLandInEqualStepsOfAtMostTwentyPercentMore) {
+  Rkc::Options o;
+  o.tolerance = 1e-4;
+  Rkc rkc(o);
+  // |F| = 1e-3 √3 per node: the first proposal √(tol/|F|) = 0.24 is capped at 0.1 (Rkc::proposed_step).
+  FunctionRhs f = decay(1e-3);
+  const Points x = ones(3);
+  EXPECT_DOUBLE_EQ(rkc.next_step(f, x, {0.0, 1.0, 0}), 1.0 / 9);    // 9 steps of 0.111, not 10 of 0.1
+  EXPECT_DOUBLE_EQ(rkc.next_step(f, x, {0.0, 0.05, 0}), 0.05);      // shortened to land
+  EXPECT_DOUBLE_EQ(rkc.next_step(f, x, {0.0, 0.35, 0}), 0.35 / 3);  // 3 equal steps, not 0.1+0.1+0.1+0.05
+  EXPECT_DOUBLE_EQ(rkc.next_step(f, x, {0.0, 0.115, 0}), 0.115);    // one step 15 % longer than proposed
+}
+
+TEST(RkcStepper, AFixedStepIsNeverStretched) {
+  // issue 27: time.dt = 0.1 under RKC took 9 steps of 0.111 to an output at 1 (the error-controlled
+  // landing above); a fixed step lands by shortening only, as Heun's does.
   Rkc::Options o;
   o.error_control = false;
   o.fixed_dt = 0.1;
   Rkc rkc(o);
   FunctionRhs f = decay(1.0);
   const Points x = ones(3);
-  EXPECT_DOUBLE_EQ(rkc.next_step(f, x, {0.0, 1.0, 0}), 1.0 / 9);       // 9 steps of 0.111, not 10 of 0.1
-  EXPECT_DOUBLE_EQ(rkc.next_step(f, x, {0.0, 0.05, 0}), 0.05);         // shortened to land
-  EXPECT_DOUBLE_EQ(rkc.next_step(f, x, {0.0, 0.35, 0}), 0.35 / 3);     // 3 equal steps, not 0.1+0.1+0.1+0.05
-  EXPECT_DOUBLE_EQ(rkc.next_step(f, x, {0.0, 0.115, 0}), 0.115);       // one step 15 % longer than asked
+  EXPECT_EQ(rkc.next_step(f, x, {0.0, 1.0, 0}), 0.1);
+  EXPECT_EQ(rkc.next_step(f, x, {0.0, 0.115, 0}), 0.1);  // then 0.015: never 0.115
+  EXPECT_EQ(rkc.next_step(f, x, {0.0, 0.05, 0}), 0.05);  // shortened to land
+  Points y = x;
+  EXPECT_EQ(rkc.attempt(f, y, 0.1).dt, 0.1);  // taken as given (ρ = 1.2: 2 stages, far below the stage cap)
 }
 
 TEST(RkcStepper, VelocityAtStateOnlyAfterAnAcceptedStepAndCheckpointRoundTrip) {

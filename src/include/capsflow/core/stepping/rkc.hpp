@@ -16,9 +16,9 @@
 //      when err = RMS/tolerance ≤ 1, and the next τ follows from err^(−1/3) (local error O(τ³)).
 // With error_control = false every step is accepted at the given τ (stages still from ρ).
 //
-// As a TimeStepper: the step is the controller's proposal (or the fixed `fixed_dt` without error
-// control); the last stretch before an output time is cut into equal steps of at most 1.2× the
-// proposal rather than full steps and a sliver.
+// As a TimeStepper: the step is the controller's proposal, the last stretch before an output time
+// cut into equal steps of at most 1.2× the proposal rather than full steps and a sliver; or, without
+// error control, the fixed `fixed_dt`, shortened only where it would pass an output time.
 #include <functional>
 #include <utility>
 #include <nlohmann/json_fwd.hpp>
