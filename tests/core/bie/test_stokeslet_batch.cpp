@@ -9,25 +9,10 @@
 
 #include "capsflow/core/bie/stokeslet_batch.hpp"
 #include "capsflow/fmm/simd.hpp"
+#include "stokeslet_reference.hpp"
 
 using namespace capsflow;
-
-namespace {
-
-// G(r) f = f/|r| + r (r·f)/|r|³ in long double, written out independently of fmm::Stokeslet.
-Vec3 reference_sum(const std::vector<std::pair<Vec3, Vec3>>& terms) {
-  long double u[3] = {0, 0, 0};
-  for (const auto& [r, f] : terms) {
-    const long double r2 = static_cast<long double>(r.squaredNorm());
-    if (r2 == 0) continue;
-    const long double inv = 1.0L / std::sqrt(r2);
-    const long double rf = static_cast<long double>(r.dot(f));
-    for (int k = 0; k < 3; ++k) u[k] += inv * f[k] + rf * inv * inv * inv * r[k];
-  }
-  return {static_cast<double>(u[0]), static_cast<double>(u[1]), static_cast<double>(u[2])};
-}
-
-}  // namespace
+using capsflow::test::stokeslet_reference_sum;
 
 TEST(StokesletBatch, MatchesLongDoubleReferenceForEverySizeModuloTheVectorWidth) {
   std::mt19937 gen(7);
@@ -41,7 +26,7 @@ TEST(StokesletBatch, MatchesLongDoubleReferenceForEverySizeModuloTheVectorWidth)
       terms.emplace_back(r, f);
       batch.push(r, f);
     }
-    const Vec3 ref = reference_sum(terms);
+    const Vec3 ref = stokeslet_reference_sum(terms);
     double scale = 0;  // Σ |f|/|r|: the size of the terms, against which round-off is measured
     for (const auto& [r, f] : terms) scale += f.norm() / r.norm();
     // rsqrt with 2 Newton steps (or an exact division) and fused sums: a few ulp per term.
