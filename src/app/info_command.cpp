@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "capsflow/core/mesh/topology.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/taylor_deformation.hpp"
@@ -54,7 +55,8 @@ int info_command(const InfoOptions& opt) {
   fmt::print("D12 D13 D23     {:.4f} {:.4f} {:.4f}\n", D.D12, D.D13, D.D23);
   fmt::print("\n# run\n");
   std::string why;
-  const FarFieldBackend b = choose_backend(scene.fluid.backend, mesh.num_elements(), mesh.num_nodes(), scene.fluid.tolerance, &why);
+  // The single layer's far-field sources are the edge midpoints (docs/boundary-integral.md §4.2.1).
+  const FarFieldBackend b = choose_backend(scene.fluid.backend, mesh_edges(mesh).rows(), mesh.num_nodes(), scene.fluid.tolerance, &why);
   fmt::print("back end        {} ({})\n", to_string(b), why);
   if (const std::string note = unused_fmm_order_note(scene, b); !note.empty()) fmt::print("warning         {}\n", note);
   const StabilityEstimate se = stability_estimate(scene, st.edge_min);

@@ -19,9 +19,9 @@ bool uses_mixed_precision(FarFieldBackend b, double tolerance) {
   return fmm::kMixedPrecisionDirectSum && b == FarFieldBackend::Direct && tolerance >= kMixedPrecisionTolerance;
 }
 
-FarFieldBackend choose_backend(BackendRequest requested, Eigen::Index n_elements, Eigen::Index n_nodes,
-                               double tolerance, std::string* reason) {
-  const std::size_t n_src = static_cast<std::size_t>(3 * n_elements), n_trg = static_cast<std::size_t>(n_nodes);
+FarFieldBackend choose_backend(BackendRequest requested, Eigen::Index n_sources, Eigen::Index n_targets, double tolerance,
+                               std::string* reason) {
+  const std::size_t n_src = static_cast<std::size_t>(n_sources), n_trg = static_cast<std::size_t>(n_targets);
   std::string why;
   FarFieldBackend b;
   if (requested == BackendRequest::Auto) {

@@ -49,7 +49,7 @@ void evaluate_off_surface(SingleLayer& S, const Points& x, const Points& q, cons
   S.build_sources(x, q);  // also the current surface (vertex normals, edge midpoints)
   const Eigen::Index nt = targets.rows(), m = S.tri_.rows();
   u.resize(nt, 3);
-  S.far_field(targets.data(), nt, u.data(), false);  // targets may coincide with Gauss points
+  S.far_field(targets.data(), nt, u.data(), false);  // targets may coincide with edge midpoints
 
   // Uniform hash grid of element bounding boxes, cell = 2 × longest edge, so that every element
   // within 2 of its own sizes of a target overlaps one of the 27 cells around the target.
@@ -97,11 +97,12 @@ void evaluate_off_surface(SingleLayer& S, const Points& x, const Points& q, cons
             if (d >= OffSurfaceReport::near_ratio * h) continue;
             any = true;
             corr += adaptive_integral(el, p, Eigen::Matrix3d::Identity(), 0.5, 0);
-            for (int g = 0; g < 3; ++g) {
-              const size_t o = static_cast<size_t>(9 * e + 3 * g);
-              const Vec3 r = p - Vec3(S.src_[o], S.src_[o + 1], S.src_[o + 2]);
+            // The element's far-field terms, as the far field summed them (its block holds them negated).
+            const StokesletBlock& fb = S.far_block_[static_cast<size_t>(e)];
+            for (int k = SingleLayer::kFarLane; k < SingleLayer::kFarLane + 3; ++k) {
+              const Vec3 r = p - Vec3(fb.y[0][k], fb.y[1][k], fb.y[2][k]);
               if (r.squaredNorm() > 0)  // the far-field sum skipped coincident pairs too
-                corr -= stokeslet_apply(r, Vec3(S.strength_[o], S.strength_[o + 1], S.strength_[o + 2]));
+                corr += stokeslet_apply(r, Vec3(fb.f[0][k], fb.f[1][k], fb.f[2][k]));
             }
           }
         }

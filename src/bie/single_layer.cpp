@@ -21,16 +21,49 @@ constexpr double kInv8Pi = fmm::Stokeslet::scale();
 constexpr double kFmmToleranceMargin = 0.25;
 }  // namespace
 
+FarFieldRule far_field_rule(const SingleLayerOptions& o) {
+  if (o.far_rule != FarFieldRule::Auto) return o.far_rule;
+  return o.geometry == SurfaceGeometry::Curved ? FarFieldRule::GaussPoints : FarFieldRule::EdgeMidpoints;
+}
+
+int near_ring_layers(const SingleLayerOptions& o) {
+  if (o.near_ring_depth < 0) return 0;
+  return o.near_ring_layers > 0 ? o.near_ring_layers : (o.geometry == SurfaceGeometry::Curved ? 2 : 1);
+}
+
+int corrected_layers(const SingleLayerOptions& o) {
+  // A band would integrate with the Gauss-point far field's own rule: none then.
+  if (far_field_rule(o) == FarFieldRule::GaussPoints) return near_ring_layers(o);
+  return std::max(near_ring_layers(o), o.corrected_layers > 0 ? o.corrected_layers : kAutoCorrectedLayers);
+}
+
 SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt)
     : tri_(triangles),
       n_nodes_(n_nodes),
       opt_(opt),
+      threads_(opt.threads > 0 ? opt.threads : omp_get_max_threads()),
       curved_(opt.geometry == SurfaceGeometry::Curved),
+      far_rule_(far_field_rule(opt)),
       rule_(opt.singular_points),
-      rule_u_(curved_ ? opt.singular_radial_points : 1) {
+      rule_u_(curved_ ? opt.singular_radial_points : 1),
+      lists_(triangles, n_nodes, near_ring_layers(opt), corrected_layers(opt)) {
   if (opt.singular_radial_points > 16)
     throw std::invalid_argument("singular_radial_points: at most 16 Gauss points in u");
-  backend_ = choose_backend(opt.backend, tri_.rows(), n_nodes, opt.tolerance, &reason_);
+  // Far-field sources: one per edge (midpoints; its two sides), or one per Gauss point.
+  const std::size_t m = static_cast<std::size_t>(tri_.rows());
+  if (far_rule_ == FarFieldRule::EdgeMidpoints) {
+    slot_source_ = lists_.edge_of_slot();
+    source_slots_.resize(static_cast<std::size_t>(lists_.num_edges()));
+    for (Eigen::Index edge = 0; edge < lists_.num_edges(); ++edge) source_slots_[static_cast<std::size_t>(edge)] = lists_.sides(edge);
+  } else {
+    slot_source_.resize(3 * m);
+    source_slots_.resize(3 * m);
+    for (std::size_t slot = 0; slot < 3 * m; ++slot) {
+      slot_source_[slot] = static_cast<int>(slot);
+      source_slots_[slot] = {static_cast<int>(slot), -1};
+    }
+  }
+  backend_ = choose_backend(opt.backend, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   mixed_precision_ = uses_mixed_precision(backend_, opt.tolerance);
   if (backend_ == FarFieldBackend::Fmm) {
     fmm::FmmOptions fo;
@@ -38,54 +71,15 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     // relative to max |v| at every node (max norm), so ask the FMM for a safety margin.
     fo.tolerance = kFmmToleranceMargin * opt.tolerance;
     fo.order = opt.fmm_order;
-    fo.threads = opt.threads;
+    fo.threads = threads_;
     fmm_ = std::make_unique<fmm::Fmm<fmm::Stokeslet>>(fo);
   }
-  // Node → element adjacency (CSR), built once: the mesh connectivity never changes.
-  node_elem_start_.assign(static_cast<size_t>(n_nodes + 1), 0);
-  for (Eigen::Index e = 0; e < tri_.rows(); ++e)
-    for (int k = 0; k < 3; ++k) ++node_elem_start_[static_cast<size_t>(tri_(e, k)) + 1];
-  for (Eigen::Index i = 0; i < n_nodes; ++i) node_elem_start_[i + 1] += node_elem_start_[i];
-  node_elem_.resize(static_cast<size_t>(node_elem_start_.back()));
-  std::vector<int> fill(node_elem_start_.begin(), node_elem_start_.end() - 1);
-  for (Eigen::Index e = 0; e < tri_.rows(); ++e)
-    for (int k = 0; k < 3; ++k) node_elem_[static_cast<size_t>(fill[tri_(e, k)]++)] = static_cast<int>(e);
-  // Near ring: the elements touching a vertex within `near_ring_layers` edge hops of the node,
-  // except the node's own (layer 1 = the elements sharing a vertex with a touching element).
-  ring_start_.assign(1, 0);
-  const int layers = opt.near_ring_layers > 0 ? opt.near_ring_layers : (curved_ ? 2 : 1);
-  std::vector<int> ring, verts, next;
-  for (Eigen::Index i = 0; i < n_nodes; ++i) {
-    ring.clear();
-    verts.assign(1, static_cast<int>(i));
-    for (int layer = 0; opt.near_ring_depth >= 0 && layer < layers; ++layer) {
-      next.clear();  // vertices one hop further
-      for (int v : verts)
-        for (int t = node_elem_start_[v]; t < node_elem_start_[v + 1]; ++t)
-          for (int k = 0; k < 3; ++k) next.push_back(tri_(node_elem_[static_cast<size_t>(t)], k));
-      std::sort(next.begin(), next.end());
-      next.erase(std::unique(next.begin(), next.end()), next.end());
-      verts.swap(next);
-    }
-    if (opt.near_ring_depth >= 0)
-      for (int v : verts)
-        for (int t = node_elem_start_[v]; t < node_elem_start_[v + 1]; ++t) {
-          const int e = node_elem_[static_cast<size_t>(t)];
-          if (tri_(e, 0) != i && tri_(e, 1) != i && tri_(e, 2) != i) ring.push_back(e);
-        }
-    std::sort(ring.begin(), ring.end());
-    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-    ring_.insert(ring_.end(), ring.begin(), ring.end());
-    ring_start_.push_back(static_cast<int>(ring_.size()));
-  }
-  src_.resize(static_cast<size_t>(9 * tri_.rows()));
-  strength_.resize(static_cast<size_t>(9 * tri_.rows()));
-  mid_.resize(static_cast<size_t>(3 * tri_.rows()));
-  if (opt.near_ring_depth == 0 && !ring_.empty()) {
-    ring_src_.resize(static_cast<size_t>(21 * tri_.rows()));
-    ring_strength_.resize(static_cast<size_t>(21 * tri_.rows()));
-  }
-  batches_.resize(static_cast<size_t>(std::max(opt.threads, omp_get_max_threads())));
+  src_.resize(3 * source_slots_.size());
+  strength_.resize(3 * source_slots_.size());
+  far_block_.resize(m);
+  if (opt.near_ring_depth == 0 && lists_.ring_layers() > 0) ring_block_.resize(m);
+  mid_.resize(3 * m);
+  batches_.resize(static_cast<size_t>(threads_));
 }
 
 SingleLayer::~SingleLayer() = default;
@@ -96,7 +90,7 @@ void SingleLayer::build_surface(const Points& x) {
   if (!curved_) return;  // flat facets need no midpoints (element() builds them)
   vertex_normals_max(x, tri_, normals_);
   const Eigen::Index m = tri_.rows();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads_)
   for (Eigen::Index e = 0; e < m; ++e)
     for (int k = 0; k < 3; ++k) {
       const int a = tri_(e, k), b = tri_(e, (k + 1) % 3);
@@ -117,31 +111,56 @@ QuadraticTriangle SingleLayer::element(const Points& x, Eigen::Index e, int firs
 
 void SingleLayer::build_sources(const Points& x, const Points& q) {
   build_surface(x);
-  const Eigen::Index m = tri_.rows();
-#pragma omp parallel for schedule(static)
-  for (Eigen::Index e = 0; e < m; ++e) {
-    const int a = tri_(e, 0), b = tri_(e, 1), c = tri_(e, 2);
-    const QuadraticTriangle T = element(x, e, 0);
-    for (int g = 0; g < 3; ++g) {
-      const double* l = kGaussBary[g];
-      const Vec3 y = T.position(l[1], l[2]);
-      const double w = T.jacobian(l[1], l[2]) / 6.0;  // reference-triangle area 1/2, three equal weights
-      const size_t o = static_cast<size_t>(9 * e + 3 * g);
-      for (int d = 0; d < 3; ++d) {
-        src_[o + d] = y[d];
-        strength_[o + d] = w * (l[0] * q(a, d) + l[1] * q(b, d) + l[2] * q(c, d));
+  const Eigen::Index m = tri_.rows(), n_src = far_field_sources();
+  const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
+  const bool band = lists_.corrected_layers() > lists_.ring_layers();
+  // A rule point (barycentrics l, weight w over the reference triangle) of element e as a
+  // Stokeslet term: position y, force w J q(y).
+  auto rule_point = [&](const QuadraticTriangle& T, Eigen::Index e, const double* l, double w, Vec3& y, Vec3& f) {
+    y = T.position(l[1], l[2]);
+    const double wj = w * T.jacobian(l[1], l[2]);
+    for (int d = 0; d < 3; ++d) f[d] = wj * (l[0] * q(tri_(e, 0), d) + l[1] * q(tri_(e, 1), d) + l[2] * q(tri_(e, 2), d));
+  };
+#pragma omp parallel num_threads(threads_)
+  {
+    Vec3 y, f;
+#pragma omp for schedule(static)
+    for (Eigen::Index e = 0; e < m; ++e) {
+      const QuadraticTriangle T = element(x, e, 0);
+      StokesletBlock& fb = far_block_[static_cast<size_t>(e)];
+      for (int k = 0; k < 3; ++k) {  // the far-field rule (degree 2, weights 1/6 of the Jacobian), negated
+        rule_point(T, e, far_bary[k], 1.0 / 6.0, y, f);
+        fb.set(kFarLane + k, y, -f);
       }
+      if (band)
+        for (int g = 0; g < 3; ++g) {
+          rule_point(T, e, kGaussBary[g], 1.0 / 6.0, y, f);
+          fb.set(kBandLane + g, y, f);
+        }
+      if (!ring_block_.empty())  // Dunavant's 7 points: computed once here, used by the ~18 nodes of whose ring e is part
+        for (int k = 0; k < 7; ++k) {
+          rule_point(T, e, kDunavant7[k], 0.5 * kDunavant7[k][3], y, f);
+          ring_block_[static_cast<size_t>(e)].set(k, y, f);
+        }
     }
-    if (ring_src_.empty()) continue;
-    // Dunavant 7-point sources for the near ring: computed once here, used by ~10–25 nodes each.
-    for (int k = 0; k < 7; ++k) {
-      const double* r = kDunavant7[k];
-      const Vec3 y = T.position(r[1], r[2]);
-      const double w = 0.5 * r[3] * T.jacobian(r[1], r[2]);
-      const size_t o = static_cast<size_t>(21 * e + 3 * k);
+    // Each source: at its first slot's point, with the sum of its slots' forces (both elements'
+    // shares of an edge's midpoint); its other slot takes the same position, so that the near
+    // field subtracts exactly what the far field added.
+#pragma omp for schedule(static)
+    for (Eigen::Index source = 0; source < n_src; ++source) {
+      const auto& s = source_slots_[static_cast<size_t>(source)];
+      const StokesletBlock& b0 = far_block_[static_cast<size_t>(s[0] / 3)];
+      const int l0 = kFarLane + s[0] % 3;
       for (int d = 0; d < 3; ++d) {
-        ring_src_[o + d] = y[d];
-        ring_strength_[o + d] = w * (r[0] * q(a, d) + r[1] * q(b, d) + r[2] * q(c, d));
+        src_[static_cast<size_t>(3 * source + d)] = b0.y[d][l0];
+        strength_[static_cast<size_t>(3 * source + d)] = -b0.f[d][l0];
+      }
+      if (s[1] < 0) continue;
+      StokesletBlock& b1 = far_block_[static_cast<size_t>(s[1] / 3)];
+      const int l1 = kFarLane + s[1] % 3;
+      for (int d = 0; d < 3; ++d) {
+        b1.y[d][l1] = b0.y[d][l0];
+        strength_[static_cast<size_t>(3 * source + d)] -= b1.f[d][l1];
       }
     }
   }
@@ -154,57 +173,51 @@ void SingleLayer::far_field(const double* targets, Eigen::Index n_targets, doubl
     fmm_->evaluate(strength_.data(), out);
   } else if (targets_are_nodes && mixed_precision_) {
     fmm::stokeslet_direct_sum_mixed(src_.data(), n_src, strength_.data(), targets, static_cast<std::size_t>(n_targets), out,
-                                    opt_.threads);
+                                    threads_);
   } else if (targets_are_nodes) {
-    // Gauss points are interior to the elements, so they never coincide with a node: no r = 0
-    // test, and one Newton step after the hardware rsqrt (≤ 6e-9 per pair, ~1e-9 on the sum; far
-    // below the smallest tolerance a scene accepts, 1e-8): 15–20 % faster than full precision.
+    // Edge midpoints and Gauss points never coincide with a node: no r = 0 test, and one Newton
+    // step after the hardware rsqrt (≤ 6e-9 per pair, ~1e-9 on the sum; far below the smallest tolerance a scene
+    // accepts, 1e-8): 15–20 % faster than full precision.
     fmm::direct_sum<fmm::Stokeslet, 1, false>(src_.data(), n_src, strength_.data(), targets,
-                                              static_cast<std::size_t>(n_targets), out, opt_.threads);
+                                              static_cast<std::size_t>(n_targets), out, threads_);
   } else {
     fmm::direct_sum<fmm::Stokeslet>(src_.data(), n_src, strength_.data(), targets, static_cast<std::size_t>(n_targets), out,
-                                    opt_.threads);
+                                    threads_);
   }
 }
 
-void SingleLayer::correct_touching_elements(const Points& x, const Points& q, Points& u) {
-  // Per node: gather every local term (exact integrals of the touching elements and the near
-  // ring, minus the Gauss-point sources the far field added for them) into one batch, then sum.
-#pragma omp parallel
+void SingleLayer::correct_near_field(const Points& x, const Points& q, Points& u) {
+  // Per node: the exact integrals of the touching elements (closed form, plus a batch of Duffy
+  // points on curved elements), the ring's and the band's rules, minus the far-field terms of all
+  // these elements (their blocks' negated lanes), accumulated lane by lane.
+  using V = fmm::simd::VecD;
+#pragma omp parallel num_threads(threads_)
   {
     StokesletBatch& batch = batches_[static_cast<size_t>(omp_get_thread_num())];
-    auto subtract_far_field = [&](const Vec3& xi, int e) {
-      for (int g = 0; g < 3; ++g) {
-        const size_t o = static_cast<size_t>(9 * e + 3 * g);
-        batch.push(xi - Vec3(src_[o], src_[o + 1], src_[o + 2]), -Vec3(strength_[o], strength_[o + 1], strength_[o + 2]));
-      }
-    };
 #pragma omp for schedule(static)
     for (Eigen::Index i = 0; i < n_nodes_; ++i) {
-      const Vec3 xi = x.row(i).transpose();
+      const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+      V acc[3] = {V(0.0), V(0.0), V(0.0)};
       batch.clear();
       Vec3 local = Vec3::Zero();  // closed-form and matrix-valued terms
-      for (int s = node_elem_start_[i]; s < node_elem_start_[i + 1]; ++s) {
-        const int e = node_elem_[static_cast<size_t>(s)];
+      for (int e : lists_.touching(i)) {
         const int k0 = tri_(e, 0) == i ? 0 : (tri_(e, 1) == i ? 1 : 2);
         local += singular_element_apply(batch, element(x, e, k0), q.row(i).transpose(),
                                         q.row(tri_(e, (k0 + 1) % 3)).transpose(), q.row(tri_(e, (k0 + 2) % 3)).transpose(), rule_,
                                         rule_u_);
-        subtract_far_field(xi, e);
+        far_block_[static_cast<size_t>(e)].accumulate(xi, kFarLane, 3, acc);
       }
-      for (int s = ring_start_[i]; s < ring_start_[i + 1]; ++s) {
-        const int e = ring_[static_cast<size_t>(s)];
-        if (opt_.near_ring_depth == 0) {
-          const double* y = &ring_src_[static_cast<size_t>(21 * e)];
-          const double* f = &ring_strength_[static_cast<size_t>(21 * e)];
-          for (int k = 0; k < 7; ++k, y += 3, f += 3) batch.push(xi[0] - y[0], xi[1] - y[1], xi[2] - y[2], f[0], f[1], f[2]);
+      for (int e : lists_.ring(i)) {
+        if (!ring_block_.empty()) {
+          ring_block_[static_cast<size_t>(e)].accumulate(xi, 0, 7, acc);
         } else {
-          const auto S = refined_element_integral(xi, element(x, e, 0), opt_.near_ring_depth);
+          const auto S = refined_element_integral(x.row(i).transpose(), element(x, e, 0), opt_.near_ring_depth);
           for (int k = 0; k < 3; ++k) local += S[k] * q.row(tri_(e, k)).transpose();
         }
-        subtract_far_field(xi, e);
+        far_block_[static_cast<size_t>(e)].accumulate(xi, kFarLane, 3, acc);
       }
-      u.row(i) += kInv8Pi * (batch.sum() + local).transpose();
+      for (int e : lists_.band(i)) far_block_[static_cast<size_t>(e)].accumulate(xi, kBandLane, 6, acc);
+      u.row(i) += kInv8Pi * (lane_sum(acc) + batch.sum() + local).transpose();
     }
   }
 }
@@ -215,7 +228,7 @@ void SingleLayer::check_far_field(const Points& x, const Points& far) {
   // Full double precision and the r = 0 mask: the reference must not share the fast paths of
   // far_field() (one-Newton rsqrt, single-precision pairs) it is meant to check.
   fmm::direct_sum<fmm::Stokeslet>(src_.data(), src_.size() / 3, strength_.data(), x.data(), n, direct_scratch_.data(),
-                                  opt_.threads);
+                                  threads_);
   double max_ref = 0, max_diff = 0, sum_sq = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Index r = static_cast<Eigen::Index>(i);
@@ -238,10 +251,6 @@ void SingleLayer::check_far_field(const Points& x, const Points& far) {
 void SingleLayer::apply(const Points& x, const Points& q, Points& u) {
   if (x.rows() != n_nodes_ || q.rows() != n_nodes_)
     throw std::invalid_argument("single layer: positions and load must have one row per node");
-  const int threads = opt_.threads > 0 ? opt_.threads : omp_get_max_threads();
-  const int saved = omp_get_max_threads();
-  omp_set_num_threads(threads);
-  if (batches_.size() < static_cast<size_t>(threads)) batches_.resize(static_cast<size_t>(threads));
   Stopwatch clock;
   build_sources(x, q);
   clock.lap(times_, Phase::BieSources);
@@ -252,10 +261,9 @@ void SingleLayer::apply(const Points& x, const Points& q, Points& u) {
     check_far_field(x, u);
     clock.lap(times_, Phase::BieVerify);
   }
-  correct_touching_elements(x, q, u);
+  correct_near_field(x, q, u);
   clock.lap(times_, Phase::BieNear);
   ++evaluations_;
-  omp_set_num_threads(saved);
 }
 
 }  // namespace capsflow

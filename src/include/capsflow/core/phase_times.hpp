@@ -11,7 +11,7 @@ namespace capsflow {
 enum class Phase : std::size_t {
   Wall,        // rotation solve + internal forces R_s (shell)
   Load,        // M q = R_s (shell::LoadRecovery)
-  BieSources,  // Gauss points and strengths of the far field
+  BieSources,  // quadrature points and strengths (far-field sources, near-field rules)
   BieFar,      // far field: FMM (setup + evaluation) or direct summation
   BieNear,     // exact local integrals replacing the far field near each node
   BieVerify,   // direct re-summation of the far field to check it (fluid.verify_every)

@@ -27,9 +27,10 @@ constexpr const auto& name_table(SurfaceGeometry) { return kSurfaceGeometryNames
 // True when the direct far field sums single-precision pairs (tolerance >= 1e-5, AVX-512 builds).
 bool uses_mixed_precision(FarFieldBackend b, double tolerance);
 
-// The back end for a mesh of n_elements (3 Gauss-point sources each) and n_nodes targets: the
-// scene's choice, or for "auto" the measured crossover; `reason` says why.
-FarFieldBackend choose_backend(BackendRequest requested, Eigen::Index n_elements, Eigen::Index n_nodes,
-                               double tolerance, std::string* reason);
+// The back end for n_sources far-field sources (SingleLayer: one per edge, the edge midpoints) and
+// n_targets targets (the nodes): the scene's choice, or for "auto" the measured crossover;
+// `reason` says why.
+FarFieldBackend choose_backend(BackendRequest requested, Eigen::Index n_sources, Eigen::Index n_targets, double tolerance,
+                               std::string* reason);
 
 }  // namespace capsflow

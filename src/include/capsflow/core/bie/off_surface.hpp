@@ -1,6 +1,6 @@
 #pragma once
 // The single layer at arbitrary targets off the surface (the velocity field around the capsule),
-// with a near-surface check: the 3-point rule of an element is accurate only for targets farther
+// with a near-surface check: the far-field rule of an element is accurate only for targets farther
 // than about two element sizes; nearer elements are integrated by adaptive subdivision.
 #include <vector>
 

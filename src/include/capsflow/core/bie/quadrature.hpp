@@ -21,8 +21,13 @@ struct GaussLegendre {
 };
 
 // The 3-point interior rule (barycentrics (2/3, 1/6, 1/6) and permutations, weights A/3; exact
-// for degree 2). kGaussBary[g][k] = λ_k at Gauss point g. These points are the far-field sources.
+// for degree 2). kGaussBary[g][k] = λ_k at Gauss point g. The single layer's band rule.
 inline constexpr double kGaussBary[3][3] = {{2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 2.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 6, 2.0 / 3}};
+
+// The edge-midpoint rule (weights A/3; exact for degree 2, its cubic error 9× the 3-point rule's):
+// kEdgeMidpointBary[k] = λ at the midpoint of edge (k, k+1). Its points lie on the edges, so the
+// two elements of an edge share one point: the far-field sources (one per edge).
+inline constexpr double kEdgeMidpointBary[3][3] = {{0.5, 0.5, 0.0}, {0.0, 0.5, 0.5}, {0.5, 0.0, 0.5}};
 
 // Dunavant's 7-point rule (degree 5) on a triangle: barycentrics λ0..λ2 and weight (sum 1).
 extern const double kDunavant7[7][4];

@@ -7,20 +7,26 @@
 // the flat facets (the paper's discretisation) or their quadratic lift through normal-based edge
 // midpoints (geometry "curved", curved_triangle.hpp: O(h³) geometry instead of O(h²)); the load is
 // linear in the element's parameters either way. Discretisation at node x_i:
-//   far field  — the 3 interior Gauss points of every element as point sources, f_g = w_g q(y_g)
-//                with w_g = J(y_g)/6 (= A_e/3 on a flat facet),
-//                summed by capsflow::fmm (FMM or direct; both compute the same sum);
-//   near field — for the elements touching x_i, the point-source contribution is replaced by the
-//                exact integral (Duffy, singular_element_integral); for the next ring of
-//                elements, by a refined rule (the 3-point rule's O(h) error comes from them).
-// Both back ends therefore compute the same discrete operator, to the FMM tolerance.
-// Nodal point sources are never used (O(h) error, docs/boundary-integral.md §4.2.1).
+//   far field  — a degree-2 rule on every element, its points as point sources summed by
+//                capsflow::fmm (FMM or direct; the same sum), with weights w = J/6 (= A_e/3 when
+//                flat): on flat facets the edge-midpoint rule, whose points the two elements of an
+//                edge share (one source per edge: 3N sources for N nodes); on curved elements the
+//                3-point Gauss rule (6N), whose smaller error their O(h⁴) geometry needs;
+//   near field — on the elements near x_i (near_field.hpp) the far-field contributions are
+//                replaced: by the exact integral on the touching elements (singular_element_integral),
+//                a refined rule on the next ring, the 3-point Gauss rule on a band beyond it.
+// Both back ends therefore compute the same discrete operator, to the FMM tolerance. Vertex
+// (nodal) sources would be N, but their error is of the size of the faceting error however wide
+// the corrected region (docs/boundary-integral.md §4.2.1).
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "capsflow/core/bie/backend_choice.hpp"
+#include "capsflow/core/bie/near_field.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
+#include "capsflow/core/bie/stokeslet_block.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/types.hpp"
 
@@ -31,6 +37,9 @@ template <class K>
 class Fmm;
 }  // namespace fmm
 struct OffSurfaceReport;
+
+// The far field's element rule (docs/boundary-integral.md §4.2.1); Auto: by the geometry.
+enum class FarFieldRule { Auto, EdgeMidpoints, GaussPoints };
 
 struct SingleLayerOptions {
   BackendRequest backend = BackendRequest::Auto;
@@ -45,8 +54,12 @@ struct SingleLayerOptions {
                                  // refined 7-point rule on 4^depth parts; -1 disables the ring
   int near_ring_layers = 0;      // edge hops of the ring beyond the touching elements; 0 = auto: 1 for
                                  // flat (the O(h²) geometry error dominates), 2 for curved (the far
-                                 // field's O(h) 3-point quadrature error would otherwise dominate)
-  int threads = 0;               // 0 = OpenMP default
+                                 // field's O(h) quadrature error would otherwise dominate)
+  FarFieldRule far_rule = FarFieldRule::Auto;  // Auto: edge midpoints on flat facets, Gauss points on curved
+  int corrected_layers = 0;      // edge hops within which the far field's midpoint rule is replaced
+                                 // (beyond the ring: by the 3-point rule); 0 = auto (kAutoCorrectedLayers);
+                                 // with the Gauss-point far field there is no band (the ring's layers)
+  int threads = 0;               // 0 = OpenMP default (set per parallel region, never globally)
   int fmm_order = 0;             // > 0 forces the FMM order instead of the one the tolerance calls for
   // > 0: on every verify_every-th apply() (the first one included) the far field is summed again
   // directly, in full double precision, on the same sources and targets (far_field_check()).
@@ -61,6 +74,17 @@ struct FarFieldCheck {
 };
 
 
+// The automatic corrected_layers with the edge-midpoint far field (docs/boundary-integral.md
+// §4.2.2: from there on the midpoint rule is as accurate as the 3-point far field it replaced).
+inline constexpr int kAutoCorrectedLayers = 3;
+
+// What the options resolve to (the defaults above): the far-field rule, the refined ring's hop
+// layers (0 without one), and the corrected layers (never fewer than the ring's). Any operator
+// over the same near-field lists uses these.
+FarFieldRule far_field_rule(const SingleLayerOptions& o);
+int near_ring_layers(const SingleLayerOptions& o);
+int corrected_layers(const SingleLayerOptions& o);
+
 class SingleLayer {
  public:
   SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt = {});
@@ -72,6 +96,9 @@ class SingleLayer {
   void apply(const Points& x, const Points& q, Points& u);
 
   FarFieldBackend backend() const { return backend_; }
+  FarFieldRule far_rule() const { return far_rule_; }
+  Eigen::Index far_field_sources() const { return static_cast<Eigen::Index>(source_slots_.size()); }
+  const NearFieldLists& near_field_lists() const { return lists_; }
   const std::string& backend_reason() const { return reason_; }
   int fmm_order() const;
   // Seconds in the phases BieSources, BieFar and BieNear, summed over apply() calls.
@@ -90,24 +117,33 @@ class SingleLayer {
   QuadraticTriangle element(const Points& x, Eigen::Index e, int first) const;  // written about vertex `first`
   void build_sources(const Points& x, const Points& q);
   void far_field(const double* targets, Eigen::Index n_targets, double* out, bool targets_are_nodes);
-  void correct_touching_elements(const Points& x, const Points& q, Points& u);
+  void correct_near_field(const Points& x, const Points& q, Points& u);
   void check_far_field(const Points& x, const Points& far);  // far: the far field just summed
 
   Triangles tri_;
   Eigen::Index n_nodes_;
   SingleLayerOptions opt_;
+  int threads_;                                    // OpenMP threads of every parallel region
   FarFieldBackend backend_;
   std::string reason_;
   bool curved_;
+  FarFieldRule far_rule_;
   bool mixed_precision_ = false;  // direct far field with single-precision pairs (tolerance >= 1e-5)
   GaussLegendre rule_, rule_u_;
+  NearFieldLists lists_;
   Points normals_;                                 // vertex normals (curved only)
   std::vector<Vec3> mid_;                          // edge midpoints: mid_[3e + k] on edge (k, k+1)
   std::vector<StokesletBatch> batches_;            // one per thread, reused across calls
-  std::vector<int> node_elem_start_, node_elem_;  // CSR: elements touching each node
-  std::vector<int> ring_start_, ring_;             // CSR: next ring of elements around each node
-  std::vector<double> src_, strength_;             // Gauss points and strengths (xyz interleaved)
-  std::vector<double> ring_src_, ring_strength_;   // 7-point rule of every element (near ring)
+  // Far field: element e's rule point k is slot 3e + k; slots that coincide (the two sides of an
+  // edge, with the midpoint rule) are one source.
+  std::vector<int> slot_source_;                   // per slot: its source
+  std::vector<std::array<int, 2>> source_slots_;   // per source: its slots (the second -1 if alone)
+  std::vector<double> src_, strength_;             // per source: position and summed strength (xyz)
+  // Per element, the near field's terms (stokeslet_block.hpp): far_block_ lanes 0–2 the band's
+  // 3-point rule, lanes 3–5 the far-field terms negated (exactly the far field's positions);
+  // ring_block_ lanes 0–6 the ring's 7-point rule.
+  static constexpr int kBandLane = 0, kFarLane = 3;
+  std::vector<StokesletBlock> far_block_, ring_block_;
   std::unique_ptr<fmm::Fmm<fmm::Stokeslet>> fmm_;
   PhaseTimes times_;
   long evaluations_ = 0;

@@ -3,8 +3,8 @@
 // fmm::Stokeslet (unscaled: the caller multiplies by fmm::Stokeslet::scale()).
 //
 // The local (near-field) correction of the single layer at a node is a few hundred such terms:
-// Duffy points of the touching elements, 7-point rules of the near ring, minus the far-field
-// Gauss-point sources of the same elements. Gathering them first and summing them in one
+// Duffy points of the touching elements, 7-point rules of the near ring, 3-point rules of the
+// band, minus the far-field terms of the same elements. Gathering them first and summing them in one
 // structure-of-arrays loop lets the compiler vectorise across terms (the far-field kernel
 // vectorises across targets, which does not help a single target).
 #include <cmath>
