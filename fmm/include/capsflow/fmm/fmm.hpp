@@ -72,7 +72,6 @@ class Fmm {
   const FmmTimings& timings() const { return t_; }
   const Tree& tree() const { return tree_; }
   const Operators<Kernel>& operators() const { return *ops_; }
-  std::shared_ptr<const Operators<Kernel>> shared_operators() const { return ops_; }
 
  private:
   int group_size(int n_densities) const;

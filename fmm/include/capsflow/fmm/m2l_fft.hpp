@@ -207,37 +207,6 @@ class M2lFft {
     }
   }
 
-  /// For one frequency chunk c and one target box: acc += Σ_s K(offset_s) ⊙ src_s (split
-  /// complex, kChunk lanes). src_chunk = spectra of all source boxes for chunk c (box-major).
-  /// The accumulators stay in vector registers while the V list streams through; with
-  /// kChunk = 8 one chunk of all kernels, sources and targets of a level fits in L2.
-  template <int TD, int SD>
-  void hadamard_list(int c, const int* src_index, const int* offsets, std::size_t count,
-                     const double* src_chunk, double* acc) const {
-    using V = simd::VecD;
-    constexpr int CH = kChunk, W = V::width;
-    static_assert(CH % W == 0, "chunk must be a multiple of the vector width");
-    for (int q0 = 0; q0 < CH; q0 += W) {
-      V ar[TD], ai[TD];
-      for (int a = 0; a < TD; ++a) { ar[a] = V::load(acc + a * 2 * CH + q0); ai[a] = V::load(acc + a * 2 * CH + CH + q0); }
-      for (std::size_t s = 0; s < count; ++s) {
-        const double* k = kernel(c, offsets[s]) + q0;
-        const double* u = src_chunk + static_cast<std::size_t>(src_index[s]) * SD * 2 * CH + q0;
-        V ur[SD], ui[SD];
-        for (int b = 0; b < SD; ++b) { ur[b] = V::load(u + b * 2 * CH); ui[b] = V::load(u + b * 2 * CH + CH); }
-        for (int a = 0; a < TD; ++a)
-          for (int b = 0; b < SD; ++b) {
-            const V kr = V::load(k + (a * SD + b) * 2 * CH), ki = V::load(k + (a * SD + b) * 2 * CH + CH);
-            ar[a] = simd::fma(kr, ur[b], ar[a]);
-            ar[a] = simd::fnma(ki, ui[b], ar[a]);
-            ai[a] = simd::fma(kr, ui[b], ai[a]);
-            ai[a] = simd::fma(ki, ur[b], ai[a]);
-          }
-      }
-      for (int a = 0; a < TD; ++a) { ar[a].store(acc + a * 2 * CH + q0); ai[a].store(acc + a * 2 * CH + CH + q0); }
-    }
-  }
-
   /// For one frequency chunk c and one V offset o: for every (target t, source s) in `pairs`,
   ///   acc_t += K(o) ⊙ src_s   (split complex; src_chunk / trg_chunk = box-major spectra of
   ///                            chunk c; pairs = t0,s0,t1,s1,...).

@@ -19,7 +19,6 @@
 #include <omp.h>
 
 #include <Eigen/Dense>
-#include <chrono>
 #include <cmath>
 #include <algorithm>
 #include <cstdio>
@@ -88,19 +87,12 @@ inline PinvFactors regularised_pinv_factors(const Eigen::MatrixXd& K, double rel
   return f;
 }
 
-/// Truncated-SVD pseudo-inverse as one matrix (reference for tests; see PinvFactors for why the
-/// FMM never applies this product).
-inline Eigen::MatrixXd regularised_pinv(const Eigen::MatrixXd& K, double rel) {
-  return regularised_pinv_factors(K, rel).product();
-}
-
 template <class Kernel>
 class Operators {
  public:
   /// Build or load the operators of order p. cache_dir "" => resolve_cache_dir("") (env vars);
   /// if no directory can be resolved or written, the operators are built and not saved.
   Operators(int p, const std::string& cache_dir) : surf_(p), m2l_(surf_) {
-    const auto t0 = std::chrono::steady_clock::now();
     const int n = surf_.n;
     const std::string dir = resolve_cache_dir(cache_dir);
     char key[256];
@@ -128,7 +120,6 @@ class Operators {
     }
     build_translations();
     m2l_.template precompute<Kernel>();
-    build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
   int order() const { return surf_.p; }
@@ -143,7 +134,6 @@ class Operators {
   bool loaded_from_cache() const { return loaded_; }
   bool saved_to_cache() const { return saved_; }
   const std::string& cache_file() const { return path_; }
-  double build_seconds() const { return build_seconds_; }
 
  private:
   std::vector<double> scaled(const std::vector<double>& v, double a, double shift) const {
@@ -179,7 +169,6 @@ class Operators {
   Eigen::MatrixXd m2m_[8], l2l_[8];
   std::string key_, path_;
   bool loaded_ = false, saved_ = false;
-  double build_seconds_ = 0;
 };
 
 }  // namespace capsflow::fmm
