@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "capsflow/shell/parallel.hpp"
+#include "capsflow/shell/parallel_thresholds.hpp"
 
 namespace capsflow::shell {
 
@@ -24,7 +24,7 @@ LoadRecovery::LoadRecovery(const Triangles& tri, Eigen::Index n_nodes) : topo_(t
 const SpMatR& LoadRecovery::assemble(const Points& x) {
   if (x.rows() != topo_.n_nodes) throw std::invalid_argument("LoadRecovery: x has the wrong number of rows");
   const int ne = topo_.n_elems, n = topo_.n_nodes;
-#pragma omp parallel for schedule(static) if (ne > 4096)
+#pragma omp parallel for schedule(static) if (ne > kParallelAreaElements)
   for (int e = 0; e < ne; ++e) {
     const auto& t = topo_.tri[e];
     const Vec3 a = x.row(t[0]), b = x.row(t[1]), c = x.row(t[2]);
@@ -32,7 +32,7 @@ const SpMatR& LoadRecovery::assemble(const Points& x) {
   }
   double* v = M_.valuePtr();
   const int* outer = M_.outerIndexPtr();
-#pragma omp parallel for schedule(static) if (n > 4096)
+#pragma omp parallel for schedule(static) if (n > kParallelNodes)
   for (int i = 0; i < n; ++i) {
     for (int k = outer[i]; k < outer[i + 1]; ++k) v[k] = 0;
     double lump = 0;
@@ -62,7 +62,7 @@ int LoadRecovery::solve(const Points& x, const Points& R, Points& q, double tol)
   if (q.rows() != n) q.resize(n, 3);
   // Initial guess: the incoming q if warm-started, else the lumped solution (q_i = R_i / m_i).
   if (!warm) {
-#pragma omp parallel for schedule(static) if (n > 2048)
+#pragma omp parallel for schedule(static) if (n > kParallelLumpedNodes)
     for (long i = 0; i < n; ++i) q.row(i) = R.row(i) / lumped_[i];
   }
   // One CG per Cartesian component (Jacobi preconditioner), sharing each pass over M.

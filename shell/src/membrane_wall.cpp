@@ -1,5 +1,6 @@
 #include "capsflow/shell/wall.hpp"
 #include "capsflow/shell/parallel.hpp"
+#include "capsflow/shell/parallel_thresholds.hpp"
 
 #include <stdexcept>
 
@@ -22,7 +23,7 @@ void MembraneWall::forces(const Points& x, Points& R, WallStats* stats) {
   R.setZero();
   for (const auto& col : topo_.colors) {
     const int ne = static_cast<int>(col.size());
-#pragma omp parallel for schedule(static) if (ne > 512)
+#pragma omp parallel for schedule(static) if (ne > kParallelMembraneColour)
     for (int k = 0; k < ne; ++k) {
       const MembraneRef& m = ref_[col[k]];
       const Vec3 xe[3] = {x.row(m.n[0]), x.row(m.n[1]), x.row(m.n[2])};

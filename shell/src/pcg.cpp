@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "capsflow/shell/parallel.hpp"
+#include "capsflow/shell/parallel_thresholds.hpp"
 
 namespace capsflow::shell {
 
@@ -18,7 +19,7 @@ void spmv(const SpMatR& A, const double* x, double* y) {
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   const double* val = A.valuePtr();
-#pragma omp parallel for schedule(static) if (n > 4096)
+#pragma omp parallel for schedule(static) if (n > kParallelRows)
   for (int i = 0; i < n; ++i) {
     double s = 0;
     for (int k = outer[i]; k < outer[i + 1]; ++k) s += val[k] * x[inner[k]];
@@ -33,7 +34,7 @@ void BlockPcg::setup_preconditioner(const SpMatR& A) {
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   const double* val = A.valuePtr();
-#pragma omp parallel for schedule(static) if (nb > 4096)
+#pragma omp parallel for schedule(static) if (nb > kParallelRows)
   for (int b = 0; b < nb; ++b) {
     Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
     for (int k = 0; k < bs_; ++k) {
@@ -76,12 +77,12 @@ int BlockPcg::solve(const SpMatR& A, const double* b, double* x, double tol, int
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   const double* val = A.valuePtr();
-  constexpr long C = 1024;  // block rows per chunk
+  constexpr long C = 1024;  // block rows per chunk: fixes the summation order (changing it changes the last bits)
   constexpr int kSlots = 3 * kMaxColumns;  // partial sums per chunk
   const long nc = (nb + C - 1) / C;
   if (static_cast<long>(partial_.size()) < kSlots * nc) partial_.resize(kSlots * nc);
   double* part = partial_.data();
-  const bool par = n * K > 8192;
+  const bool par = n * K > kParallelPcgEntries;
   auto sum = [&](int slot) {
     double s = 0;
     for (long c = 0; c < nc; ++c) s += part[kSlots * c + slot];

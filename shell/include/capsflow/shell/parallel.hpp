@@ -5,8 +5,11 @@
 #include <algorithm>
 #include <vector>
 
+#include "capsflow/shell/parallel_thresholds.hpp"
+
 namespace capsflow::shell::par {
 
+/// Terms per chunk: fixes the summation order (changing it changes the last bits of results).
 inline constexpr long kChunk = 4096;
 
 /// sum_i f(i) for i in [0, n), deterministic. `partial` is scratch (resized if needed).
@@ -14,7 +17,7 @@ template <class F>
 double det_sum(long n, std::vector<double>& partial, F&& f) {
   const long nc = (n + kChunk - 1) / kChunk;
   if (static_cast<long>(partial.size()) < nc) partial.resize(nc);
-#pragma omp parallel for schedule(static) if (n > 2 * kChunk)
+#pragma omp parallel for schedule(static) if (n > kParallelSumTerms)
   for (long c = 0; c < nc; ++c) {
     double s = 0;
     const long e = std::min(n, (c + 1) * kChunk);
