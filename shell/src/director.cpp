@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "capsflow/shell/parallel_thresholds.hpp"
+
 namespace capsflow::shell {
 
 void tangent_basis(const Vec3& d, Vec3& t1, Vec3& t2) {
@@ -14,17 +16,39 @@ void tangent_basis(const Vec3& d, Vec3& t1, Vec3& t2) {
   t2 = d.cross(t1);
 }
 
-Points area_weighted_normals(const Points& X, const Triangles& tri) {
-  Points n = Points::Zero(X.rows(), 3);
-  for (Eigen::Index e = 0; e < tri.rows(); ++e) {
-    const Vec3 a = X.row(tri(e, 0)), b = X.row(tri(e, 1)), c = X.row(tri(e, 2));
-    const Vec3 an = (b - a).cross(c - a);  // 2 x area x unit normal
-    for (int k = 0; k < 3; ++k) n.row(tri(e, k)) += an.transpose();
+NodalTriads::NodalTriads(const Points& directors) {
+  const Eigen::Index n = directors.rows();
+  d.resize(n, 3);
+  t1.resize(n, 3);
+  t2.resize(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 di = directors.row(i).normalized();
+    Vec3 a, b;
+    tangent_basis(di, a, b);
+    d.row(i) = di;
+    t1.row(i) = a;
+    t2.row(i) = b;
   }
-  for (Eigen::Index i = 0; i < n.rows(); ++i) {
-    const double l = n.row(i).norm();
-    if (l > 0) n.row(i) /= l;
+}
+
+void area_weighted_normals(const Points& x, const Topology& topo, Points& nrm) {
+  const int n = topo.n_nodes;
+  if (nrm.rows() != n) nrm.resize(n, 3);
+#pragma omp parallel for schedule(static) if (n > kParallelNodes)
+  for (int i = 0; i < n; ++i) {
+    Vec3 s = Vec3::Zero();
+    for (int p = topo.inc_ptr[i]; p < topo.inc_ptr[i + 1]; ++p) {
+      const auto& t = topo.tri[topo.inc_elem[p]];
+      const Vec3 a = x.row(t[0]);
+      s += (Vec3(x.row(t[1])) - a).cross(Vec3(x.row(t[2])) - a);
+    }
+    nrm.row(i) = s.normalized().transpose();
   }
+}
+
+Points area_weighted_normals(const Points& x, const Triangles& tri) {
+  Points n;
+  area_weighted_normals(x, Topology(tri, x.rows()), n);
   return n;
 }
 

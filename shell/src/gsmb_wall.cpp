@@ -2,22 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 
 #include "capsflow/shell/director.hpp"
 #include "capsflow/shell/parallel.hpp"
+#include "capsflow/shell/parallel_thresholds.hpp"
 
 namespace capsflow::shell {
 
 namespace {
-// CAPSFLOW_SHELL_TRACE=1 prints the Newton residuals to stderr (read once).
-bool trace_enabled() {
-  static const bool on = std::getenv("CAPSFLOW_SHELL_TRACE") != nullptr;
-  return on;
-}
 // A healthy step with the frozen tangent divides the residual by 50–1000; one that divides it by less
 // than 2 has a stale tangent.
 constexpr double kStaleTangent = 0.5;
@@ -25,11 +19,7 @@ constexpr double kStaleTangent = 0.5;
 // diagonal entry so that the diagonal stays positive far from equilibrium. A solve starts at
 // kGeometricFloor; if CG then meets negative curvature and cannot move (the tangent is indefinite), it
 // falls back to kSafeGeometricFloor for the rest of the solve; a solve that fails even so starts again
-// at kSafeGeometricFloor throughout (solve_rotations). Measured in the stress campaign
-// (2026-11-30, 1280 elements, shells past their folds): at −0.5 alone, GSMB Skalak C = 10 at Ca_s = 10
-// in shear converged at 0.87 per step and failed after 100 steps at γ̇t = 8.03 (−0.9: ≤ 21 steps); at
-// −0.9 alone, GSMB NH at Ca_s = 3 in shear stalled (zero CG step) at γ̇t = 4.67 (−0.5: fine). Ordinary
-// solves are unchanged (quick scene: same Newton counts, same D13).
+// at kSafeGeometricFloor throughout (solve_rotations). Both floors are needed: docs/shell.md §2.4.
 constexpr double kGeometricFloor = 0.9, kSafeGeometricFloor = 0.5;
 // CG stalled: its relative residual is still above this after the solve.
 constexpr double kStalledCg = 0.5;
@@ -62,7 +52,7 @@ void GsmbWall::init(const Points& X, const Points& D) {
     ref_[e] = make_element_ref(Xe, De, t, opt_.thickness, G, opt_.poisson);
   }
   set_directors(D_);
-  nodal_normals(X, n_prev_);
+  area_weighted_normals(X, topo_, n_prev_);
   n_cur_ = n_prev_;
   fx_.setZero(n, 3);
   g_.setZero(n, 3);
@@ -90,34 +80,13 @@ void GsmbWall::init(const Points& X, const Points& D) {
       throw std::logic_error("GsmbWall: unexpected sparsity layout");
 }
 
-void GsmbWall::set_directors(const Points& d) {
-  const Eigen::Index n = d.rows();
-  d_.resize(n, 3);
-  t1_.resize(n, 3);
-  t2_.resize(n, 3);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Vec3 di = d.row(i).normalized();
-    Vec3 a, b;
-    tangent_basis(di, a, b);
-    d_.row(i) = di;
-    t1_.row(i) = a;
-    t2_.row(i) = b;
-  }
-}
+void GsmbWall::set_directors(const Points& d) { triads_ = NodalTriads(d); }
 
 void GsmbWall::rotate(const Eigen::VectorXd& w) {
   const int n = topo_.n_nodes;
-#pragma omp parallel for schedule(static) if (n > 4096)
-  for (int i = 0; i < n; ++i) {
-    const Vec3 a = t1_.row(i), b = t2_.row(i), d = d_.row(i);
-    const Vec3 om = w[2 * i] * a + w[2 * i + 1] * b;
-    Vec3 dn = rodrigues(om, d).normalized();
-    Vec3 an = rodrigues(om, a);
-    an = (an - an.dot(dn) * dn).normalized();  // keep the triad orthonormal to round-off
-    d_.row(i) = dn;
-    t1_.row(i) = an;
-    t2_.row(i) = dn.cross(an);
-  }
+#pragma omp parallel for schedule(static) if (n > kParallelNodes)
+  for (int i = 0; i < n; ++i)
+    triads_.rotate(i, w[2 * i] * Vec3(triads_.t1.row(i)) + w[2 * i + 1] * Vec3(triads_.t2.row(i)));
 }
 
 void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K,
@@ -128,14 +97,14 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
   // (fx, g: 6 doubles) node by node, so that an element touches 3 + 3 short records
   nodes_.resize(n);
   acc_.resize(n);
-#pragma omp parallel for schedule(static) if (n > 4096)
+#pragma omp parallel for schedule(static) if (n > kParallelNodes)
   for (int i = 0; i < n; ++i) {
     NodeRec& r = nodes_[i];
     for (int c = 0; c < 3; ++c) {
       r.v[c] = x(i, c);
-      r.v[3 + c] = d_(i, c);
-      r.v[6 + c] = -t2_(i, c);
-      r.v[9 + c] = t1_(i, c);
+      r.v[3 + c] = triads_.d(i, c);
+      r.v[6 + c] = -triads_.t2(i, c);
+      r.v[9 + c] = triads_.t1(i, c);
     }
     acc_[i].fill(0.0);
   }
@@ -143,7 +112,7 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
   if (want_K) std::fill(Kv, Kv + K_.nonZeros(), 0.0);
   for (const auto& col : topo_.colors) {
     const int ne = static_cast<int>(col.size());
-#pragma omp parallel for schedule(static) if (ne > 256)
+#pragma omp parallel for schedule(static) if (ne > kParallelGsmbColour)
     for (int k = 0; k < ne; ++k) {
       const int e = col[k];
       const ElementRef& R = ref_[e];
@@ -190,24 +159,24 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
       }
     }
   }
-#pragma omp parallel for schedule(static) if (n > 4096)
+#pragma omp parallel for schedule(static) if (n > kParallelNodes)
   for (int i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) {
       fx_(i, c) = acc_[i][c];
       g_(i, c) = acc_[i][3 + c];
     }
   // nodal residual and geometric term
-#pragma omp parallel for schedule(static) if (n > 4096)
+#pragma omp parallel for schedule(static) if (n > kParallelNodes)
   for (int i = 0; i < n; ++i) {
     const Vec3 gi = g_.row(i);
-    Rth_[2 * i] = -t2_.row(i).dot(gi);
-    Rth_[2 * i + 1] = t1_.row(i).dot(gi);
+    Rth_[2 * i] = -triads_.t2.row(i).dot(gi);
+    Rth_[2 * i + 1] = triads_.t1.row(i).dot(gi);
     if (want_K) {
       const int dp = row_base_[i] + 2 * topo_.diag_pos[i];
       if (opt_.geometric_tangent) {
         // exact second-order term of the exponential map, floored (geometric_floor_)
         const double kmin = std::min(Kv[dp], Kv[dp + row_len2_[i] + 1]);
-        const double c = std::max(-gi.dot(d_.row(i)), -geometric_floor_ * kmin);
+        const double c = std::max(-gi.dot(triads_.d.row(i)), -geometric_floor_ * kmin);
         Kv[dp] += c;
         Kv[dp + row_len2_[i] + 1] += c;
       }
@@ -219,55 +188,24 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
   if (R_theta) *R_theta = Rth_;
 }
 
-void GsmbWall::nodal_normals(const Points& x, Points& nrm) const {
-  const int n = topo_.n_nodes;
-  if (nrm.rows() != n) nrm.resize(n, 3);
-#pragma omp parallel for schedule(static) if (n > 4096)
-  for (int i = 0; i < n; ++i) {
-    Vec3 s = Vec3::Zero();
-    for (int p = topo_.inc_ptr[i]; p < topo_.inc_ptr[i + 1]; ++p) {
-      const auto& t = topo_.tri[topo_.inc_elem[p]];
-      const Vec3 a = x.row(t[0]);
-      s += (Vec3(x.row(t[1])) - a).cross(Vec3(x.row(t[2])) - a);
-    }
-    nrm.row(i) = s.normalized().transpose();
-  }
-}
-
 WallStats GsmbWall::solve_rotations(const Points& x) {
   WallStats st;
   if (opt_.predict) {
-    nodal_normals(x, n_cur_);
+    area_weighted_normals(x, topo_, n_cur_);
     const int n = topo_.n_nodes;
-#pragma omp parallel for schedule(static) if (n > 4096)
+#pragma omp parallel for schedule(static) if (n > kParallelNodes)
     for (int i = 0; i < n; ++i) {
-      const Vec3 a = n_prev_.row(i), b = n_cur_.row(i);
-      const Vec3 ax = a.cross(b);
-      const double s = ax.norm(), c = a.dot(b);
-      if (s < 1e-15) continue;
-      const Vec3 w = ax * (std::atan2(s, c) / s);  // minimal rotation a -> b
-      const Vec3 dn = rodrigues(w, Vec3(d_.row(i))).normalized();
-      Vec3 tn = rodrigues(w, Vec3(t1_.row(i)));
-      tn = (tn - tn.dot(dn) * dn).normalized();
-      d_.row(i) = dn;
-      t1_.row(i) = tn;
-      t2_.row(i) = dn.cross(tn);
+      Vec3 w;
+      if (minimal_rotation(Vec3(n_prev_.row(i)), Vec3(n_cur_.row(i)), w)) triads_.rotate(i, w);
     }
     n_prev_ = n_cur_;
   }
-  d_start_ = d_;
-  t1_start_ = t1_;
-  t2_start_ = t2_;
+  start_ = triads_;
   newton(x, kGeometricFloor, st);
   if (!st.converged) {
     // Failure path only (converged solves never come here, so they are unchanged): start again from
-    // the predicted triads with the safer floor throughout. Measured in the stress campaign
-    // (2026-12-01, 1280 elements, GSMB Ca_s = 3–10 in planar hyperbolic flow): −0.9 first, falling back
-    // to −0.5 only when CG stalls, failed after 100 steps, residual 6e-6–2e-4 rad, where −0.5
-    // throughout had converged.
-    d_ = d_start_;
-    t1_ = t1_start_;
-    t2_ = t2_start_;
+    // the predicted triads with the safer floor throughout (docs/shell.md §2.4).
+    triads_ = start_;
     st.converged = true;
     newton(x, kSafeGeometricFloor, st);
   }
@@ -292,17 +230,16 @@ void GsmbWall::newton(const Points& x, double floor, WallStats& st) {
     for (int i = 0; i < n2; ++i) res = std::max(res, std::abs(Rth_[i]) / kdiag_[i]);
     if (it > 0 && res > opt_.newton_tol && res > kStaleTangent * previous) {
       // The frozen tangent no longer contracts: the iterate has moved far from where it was built,
-      // as when it leaves a saddle (gsmb_wall.hpp, max_newton). Rebuild it at this iterate; with a
+      // as when it leaves a saddle (docs/shell.md §2.4). Rebuild it at this iterate; with a
       // tangent frozen at the saddle the escape ends in a 2-cycle at residual 0.2 (measured).
       evaluate(x, nullptr, nullptr, true, want_fx);
     }
     previous = res;
     st.residual = res;
     if (res <= opt_.newton_tol && !want_fx) evaluate(x, nullptr, nullptr, false, true);
-    if (trace_enabled()) std::fprintf(stderr, "newton %d residual %.3e\n", it, res);
-    if (res <= opt_.newton_tol) break;
-    if (it >= opt_.max_newton) {
-      st.converged = false;
+    if (res <= opt_.newton_tol || it >= opt_.max_newton) {
+      if (res > opt_.newton_tol) st.converged = false;
+      if (trace_) trace_({it, res, geometric_floor_, 0, 0.0});
       break;
     }
     Rth_ = -Rth_;
@@ -310,14 +247,13 @@ void GsmbWall::newton(const Points& x, double floor, WallStats& st) {
     int cg = pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
     if (rr > kStalledCg && geometric_floor_ > kSafeGeometricFloor) {
       // Negative curvature stopped CG: an indefinite tangent. Rebuild it with the safer floor.
-      st.cg_iterations += cg;
       geometric_floor_ = kSafeGeometricFloor;
       evaluate(x, nullptr, nullptr, true, want_fx);
       Rth_ = -Rth_;
-      cg = pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
+      cg += pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
     }
     st.cg_iterations += cg;
-    if (trace_enabled()) std::fprintf(stderr, "  cg %d relres %.2e\n", cg, rr);
+    if (trace_) trace_({it, res, geometric_floor_, cg, rr});
     double big = 0;
     for (int i = 0; i < topo_.n_nodes; ++i)
       big = std::max(big, std::hypot(dw_[2 * i], dw_[2 * i + 1]));
@@ -328,7 +264,7 @@ void GsmbWall::newton(const Points& x, double floor, WallStats& st) {
 }
 
 void GsmbWall::restart_rotations(const Points& x) {
-  nodal_normals(x, n_cur_);
+  area_weighted_normals(x, topo_, n_cur_);
   set_directors(n_cur_);
   n_prev_ = n_cur_;
   last_newton_ = 0;
@@ -350,7 +286,8 @@ void GsmbWall::element_energies(const Points& x, std::vector<double>* em, std::v
     const ElementRef& R = ref_[e];
     const auto& nd = R.m.n;
     const Vec3 xe[3] = {x.row(nd[0]), x.row(nd[1]), x.row(nd[2])};
-    const Vec3 de[3] = {d_.row(nd[0]), d_.row(nd[1]), d_.row(nd[2])};
+    const Points& d = triads_.d;
+    const Vec3 de[3] = {d.row(nd[0]), d.row(nd[1]), d.row(nd[2])};
     Vec3 fm[3];
     const Vec3 T[3][2] = {};
     BsOut o;
@@ -387,9 +324,9 @@ Eigen::VectorXd GsmbWall::state() const {
   Eigen::VectorXd s(12 * n);
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) {
-      s[3 * i + k] = d_(i, k);
-      s[3 * n + 3 * i + k] = t1_(i, k);
-      s[6 * n + 3 * i + k] = t2_(i, k);
+      s[3 * i + k] = triads_.d(i, k);
+      s[3 * n + 3 * i + k] = triads_.t1(i, k);
+      s[6 * n + 3 * i + k] = triads_.t2(i, k);
       s[9 * n + 3 * i + k] = n_prev_(i, k);
     }
   return s;
@@ -400,9 +337,9 @@ void GsmbWall::set_state(const Eigen::VectorXd& s) {
   if (s.size() != 12 * n) throw std::invalid_argument("GsmbWall::set_state: wrong size");
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k) {
-      d_(i, k) = s[3 * i + k];
-      t1_(i, k) = s[3 * n + 3 * i + k];
-      t2_(i, k) = s[6 * n + 3 * i + k];
+      triads_.d(i, k) = s[3 * i + k];
+      triads_.t1(i, k) = s[3 * n + 3 * i + k];
+      triads_.t2(i, k) = s[6 * n + 3 * i + k];
       n_prev_(i, k) = s[9 * n + 3 * i + k];
     }
 }

@@ -4,8 +4,6 @@
 #include <Eigen/SparseCholesky>
 #include <cmath>
 #include <limits>
-#include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 
@@ -13,14 +11,6 @@
 #include "capsflow/shell/element_ad.hpp"
 
 namespace capsflow::shell {
-
-namespace {
-// CAPSFLOW_SHELL_TRACE=1 prints the Newton residuals to stderr (read once).
-bool trace_enabled() {
-  static const bool on = std::getenv("CAPSFLOW_SHELL_TRACE") != nullptr;
-  return on;
-}
-}  // namespace
 
 struct StaticShell::Impl {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
@@ -30,23 +20,13 @@ StaticShell::StaticShell(const Points& X, const Triangles& tri, const Points& D_
                          double h, double nu)
     : X_(X), x_(X), law_(law), topo_(tri, X.rows()), impl_(std::make_shared<Impl>()) {
   const int n = topo_.n_nodes;
-  Points D = D_ref.rows() == n ? D_ref : area_weighted_normals(X, tri);
-  d_.resize(n, 3);
-  t1_.resize(n, 3);
-  t2_.resize(n, 3);
-  for (int i = 0; i < n; ++i) {
-    const Vec3 di = D.row(i).normalized();
-    Vec3 a, b;
-    tangent_basis(di, a, b);
-    d_.row(i) = di;
-    t1_.row(i) = a;
-    t2_.row(i) = b;
-  }
+  triads_ = NodalTriads(D_ref.rows() == n ? D_ref : area_weighted_normals(X, tri));
+  const Points& d = triads_.d;
   ref_.resize(topo_.n_elems);
   for (int e = 0; e < topo_.n_elems; ++e) {
     const auto& t = topo_.tri[e];
     const Vec3 Xe[3] = {X.row(t[0]), X.row(t[1]), X.row(t[2])};
-    const Vec3 De[3] = {d_.row(t[0]), d_.row(t[1]), d_.row(t[2])};
+    const Vec3 De[3] = {d.row(t[0]), d.row(t[1]), d.row(t[2])};
     ref_[e] = make_element_ref(Xe, De, t, h, law.Gs() / h, nu);
   }
   fixed_.assign(5 * n, 0);
@@ -60,17 +40,17 @@ void StaticShell::fix_translation(int node, int comp) { fixed_[5 * node + comp] 
 void StaticShell::fix_rotations(int node) { fixed_[5 * node + 3] = fixed_[5 * node + 4] = 1; }
 
 void StaticShell::fix_rotation_about(int node, const Vec3& axis) {
-  const Vec3 d = d_.row(node);
+  const Vec3 d = triads_.d.row(node);
   const Vec3 a = axis - axis.dot(d) * d;
   if (a.norm() < 1e-12 * axis.norm()) return;  // axis along the director: no (drilling) DOF
   if (fixed_[5 * node + 3]) {                  // second independent axis: clamp
-    const Vec3 t1 = t1_.row(node);
+    const Vec3 t1 = triads_.t1.row(node);
     if (std::abs(a.normalized().dot(t1)) < 1 - 1e-12) fixed_[5 * node + 4] = 1;
     return;
   }
   const Vec3 t1 = a.normalized();
-  t1_.row(node) = t1;
-  t2_.row(node) = d.cross(t1);
+  triads_.t1.row(node) = t1;
+  triads_.t2.row(node) = d.cross(t1);
   fixed_[5 * node + 3] = 1;  // w1 = omega . t1 = 0
 }
 
@@ -81,8 +61,8 @@ void StaticShell::assemble(double lambda, bool want_K) {
   for (int i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c) fext_[5 * i + c] = lambda * F_(i, c);
     const Vec3 m = M_.row(i);
-    fext_[5 * i + 3] = lambda * m.dot(Vec3(t1_.row(i)));
-    fext_[5 * i + 4] = lambda * m.dot(Vec3(t2_.row(i)));
+    fext_[5 * i + 3] = lambda * m.dot(Vec3(triads_.t1.row(i)));
+    fext_[5 * i + 4] = lambda * m.dot(Vec3(triads_.t2.row(i)));
   }
   trip_.clear();
   if (want_K) trip_.reserve(static_cast<size_t>(topo_.n_elems) * 225 + 5 * n);
@@ -93,9 +73,9 @@ void StaticShell::assemble(double lambda, bool want_K) {
     Vec3 xe[3], de[3], a[3], b[3];
     for (int k = 0; k < 3; ++k) {
       xe[k] = x_.row(nd[k]);
-      de[k] = d_.row(nd[k]);
-      a[k] = t1_.row(nd[k]);
-      b[k] = t2_.row(nd[k]);
+      de[k] = triads_.d.row(nd[k]);
+      a[k] = triads_.t1.row(nd[k]);
+      b[k] = triads_.t2.row(nd[k]);
     }
     element_hessian(ref_[e], law_, xe, de, a, b, eh[e]);
   }
@@ -137,7 +117,7 @@ double StaticShell::potential(double lambda) const {
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c) {
         xe[k][c] = x_(nd[k], c);
-        de[k][c] = d_(nd[k], c);
+        de[k][c] = triads_.d(nd[k], c);
       }
     element_energy_t<double>(ref_[e], law_, xe, de, out);
     E += out[0] + out[1] + out[2];
@@ -151,14 +131,8 @@ double StaticShell::potential(double lambda) const {
 void StaticShell::apply_increment(const Eigen::VectorXd& du, double alpha) {
   for (int i = 0; i < topo_.n_nodes; ++i) {
     for (int c = 0; c < 3; ++c) x_(i, c) += alpha * du[5 * i + c];
-    const Vec3 a = t1_.row(i), b = t2_.row(i), d = d_.row(i);
-    const Vec3 om = alpha * (du[5 * i + 3] * a + du[5 * i + 4] * b);
-    const Vec3 dn = rodrigues(om, d).normalized();
-    Vec3 an = rodrigues(om, a);
-    an = (an - an.dot(dn) * dn).normalized();
-    d_.row(i) = dn;
-    t1_.row(i) = an;
-    t2_.row(i) = dn.cross(an);
+    const Vec3 om = alpha * (du[5 * i + 3] * Vec3(triads_.t1.row(i)) + du[5 * i + 4] * Vec3(triads_.t2.row(i)));
+    triads_.rotate(i, om);
     theta_acc_.row(i) += om.transpose();
   }
 }
@@ -172,7 +146,6 @@ StaticStep StaticShell::newton(double lambda, const StaticOptions& opt) {
     assemble(lambda, true);
     const double fn = std::max(fext_.norm(), 1e-300);
     st.residual = r_.norm() / fn;
-    if (trace_enabled()) std::fprintf(stderr, "static newton %d residual %.3e\n", it, st.residual);
     if (it > 0 && (st.residual <= opt.tol ||
                    (st.residual <= opt.floor_tol && st.residual > 0.5 * prev))) {
       st.converged = true;  // below tol, or stagnating at the round-off floor below floor_tol
@@ -205,20 +178,21 @@ StaticStep StaticShell::newton(double lambda, const StaticOptions& opt) {
     // backtracking (Armijo) on the total potential when du is a descent direction
     const double slope = r_.dot(du);
     if (opt.line_search && slope < 0) {
-      const Points x0 = x_, d0 = d_, a0 = t1_, b0 = t2_, th0 = theta_acc_;
+      const Points x0 = x_, th0 = theta_acc_;
+      const NodalTriads triads0 = triads_;
       const double P0 = potential(lambda);
       for (int ls = 0; ls < 12; ++ls) {
         apply_increment(du, alpha);
         if (potential(lambda) <= P0 + 1e-4 * alpha * slope) break;
-        x_ = x0; d_ = d0; t1_ = a0; t2_ = b0; theta_acc_ = th0;
+        x_ = x0;
+        triads_ = triads0;
+        theta_acc_ = th0;
         alpha *= 0.5;
         if (ls == 11) apply_increment(du, alpha);
       }
     } else {
       apply_increment(du, alpha);
     }
-    if (trace_enabled())
-      std::fprintf(stderr, "   step: max rot %.3e slope %.3e alpha %.3e\n", big, slope, alpha);
     ++st.newton;
   }
   return st;

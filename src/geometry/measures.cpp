@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "capsflow/shell/director.hpp"
+
 namespace capsflow {
 
 namespace {
@@ -29,13 +31,7 @@ Points element_normals(const SurfaceMesh& mesh) {
 }
 
 Points nodal_normals(const SurfaceMesh& mesh) {
-  Points n = Points::Zero(mesh.num_nodes(), 3);
-  for (Eigen::Index e = 0; e < mesh.num_elements(); ++e) {
-    const Vec3 a2 = area_vector2(mesh, e);  // area-weighted normal
-    for (int k = 0; k < 3; ++k) n.row(mesh.triangles(e, k)) += a2.transpose();
-  }
-  for (Eigen::Index i = 0; i < n.rows(); ++i) n.row(i).normalize();
-  return n;
+  return shell::area_weighted_normals(mesh.vertices, mesh.triangles);  // the wall's directors' formula
 }
 
 Eigen::VectorXd nodal_areas(const SurfaceMesh& mesh) {

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/shell/director.hpp"
 
 namespace capsflow {
 
@@ -16,7 +17,7 @@ double quantile(std::vector<double>& values, double q) {
 }
 
 RoughnessMeter::RoughnessMeter(const Triangles& triangles, Eigen::Index num_nodes)
-    : tri_(triangles), umbrella_(triangles, num_nodes) {
+    : tri_(triangles), topo_(triangles, num_nodes), umbrella_(triangles, num_nodes) {
   std::map<std::pair<int, int>, int> first;
   for (Eigen::Index e = 0; e < tri_.rows(); ++e)
     for (int k = 0; k < 3; ++k) {
@@ -32,7 +33,7 @@ SurfaceRoughness RoughnessMeter::measure(const Points& x) const {
   const Eigen::Index n = x.rows();
   const SurfaceMesh mesh{x, tri_};
   const Points fn = element_normals(mesh);
-  const Points normals = nodal_normals(mesh);  // area-weighted
+  shell::area_weighted_normals(x, topo_, normals_);
 
   angles_.resize(edge_faces_.size());
   for (size_t k = 0; k < edge_faces_.size(); ++k) {
@@ -43,7 +44,7 @@ SurfaceRoughness RoughnessMeter::measure(const Points& x) const {
   r.facet_angle_p99 = quantile(angles_, 0.99);
 
   umbrella_.apply(x, ux_);
-  c_ = (ux_.array() * normals.array()).rowwise().sum();
+  c_ = (ux_.array() * normals_.array()).rowwise().sum();
   umbrella_.apply(c_, uc_);
   osc_.resize(static_cast<size_t>(n));
   const auto& off = umbrella_.offsets();

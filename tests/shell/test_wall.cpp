@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <vector>
 
 #include "capsflow/shell/load_recovery.hpp"
 #include "support/wall_fixtures.hpp"
@@ -43,6 +44,34 @@ TEST(RotationSolve, ConvergesFromReferenceAndFromWarmStart) {
   EXPECT_TRUE(st.converged);
   EXPECT_LE(st.newton_iterations, 2);  // warm start: quadratic convergence from O(1e-4) rad
   std::printf("warm start: newton %d cg %d residual %.2e\n", st.newton_iterations, st.cg_iterations, st.residual);
+}
+
+TEST(RotationSolve, TraceReportsEveryNewtonStep) {
+  Mesh m = icosphere(3);
+  GsmbWall w(m.X, m.T, make_law("nh", 1.0), opts(0.05));
+  std::vector<NewtonStep> steps;
+  w.set_trace([&](const NewtonStep& s) { steps.push_back(s); });
+  Points R;
+  WallStats st;
+  w.forces(deform(m.X, 1.0, 1), R, &st);  // a cold solve: several corrections
+  ASSERT_TRUE(st.converged);
+  ASSERT_GE(st.newton_iterations, 2);
+  // one entry per residual evaluation: each correction, then the converged residual
+  ASSERT_EQ(static_cast<int>(steps.size()), st.newton_iterations + 1);
+  int cg = 0;
+  for (int k = 0; k < static_cast<int>(steps.size()); ++k) {
+    EXPECT_EQ(steps[k].iteration, k);
+    cg += steps[k].cg_iterations;
+    if (k + 1 < static_cast<int>(steps.size())) {
+      EXPECT_GT(steps[k].cg_iterations, 0);
+      EXPECT_LE(steps[k].cg_relres, w.options().cg_tol);  // each correction solved to cg_tol
+    }
+  }
+  EXPECT_EQ(cg, st.cg_iterations);
+  EXPECT_EQ(steps.back().cg_iterations, 0);            // converged: no correction follows
+  EXPECT_EQ(steps.back().residual, st.residual);        // the same number, not a recomputation
+  EXPECT_LE(steps.back().residual, w.options().newton_tol);
+  EXPECT_GT(steps.front().residual, 1e3 * steps.back().residual);  // a cold start is far from it
 }
 
 TEST(RotationSolve, LargeRigidRotationIsExact) {

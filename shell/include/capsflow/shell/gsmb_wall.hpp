@@ -22,8 +22,10 @@
 // convergence the extra cost is at most one Newton step.
 #include <Eigen/SparseCore>
 #include <array>
+#include <functional>
 #include <vector>
 
+#include "capsflow/shell/director.hpp"
 #include "capsflow/shell/pcg.hpp"
 #include "capsflow/shell/wall.hpp"
 
@@ -33,10 +35,7 @@ struct GsmbOptions {
   double thickness = 0.03;   ///< h = alpha (in units of l)
   double poisson = 0.5;      ///< nu of the bending/shear Hooke laws (paper: nu = nu_s)
   double newton_tol = 1e-10; ///< max |R_theta|/K_diag (radians), see above
-  // Usually 1–4 iterations. Where a mesh-scale fold makes the rotation equilibrium a saddle (the
-  // geometric term below is clamped there, so K is stiffer than the true tangent), the iteration first
-  // approaches the saddle, then leaves it ×1.8 per iteration for the true minimum: 45–47 iterations
-  // measured (GSMB NH sphere, Ca_s = 1, planar hyperbolic, 1280 elements, γ̇t = 1.18).
+  // Usually 1–4 iterations; leaving the saddle of a mesh-scale fold took 45–47 (docs/shell.md §2.4).
   int max_newton = 100;
   double cg_tol = 1e-6;      ///< relative residual of each Newton linear system (inexact Newton)
   int max_cg = 2000;
@@ -44,6 +43,16 @@ struct GsmbOptions {
   bool predict = true;       ///< before Newton, rotate each triad with its node's facet normal
                              ///< (minimal rotation from the normal at the last solve to the current)
   bool geometric_tangent = true;  ///< add the geometric part -(g.d) I_2 to K_tt (see above)
+};
+
+/// One Newton step of a rotation solve, reported to the caller's trace (GsmbWall::set_trace).
+struct NewtonStep {
+  int iteration = 0;         ///< 0: the residual at the predicted triads
+  double residual = 0;       ///< max_i |R_theta,i| / K_ii (radians) before the correction
+  double geometric_floor = 0;  ///< floor of the geometric tangent term in use
+  int cg_iterations = 0;     ///< of the correction that follows, both attempts if CG stalled and
+                             ///< was restarted at the safer floor (0: none, the solve stops here)
+  double cg_relres = 0;      ///< its relative residual
 };
 
 class GsmbWall : public Wall {
@@ -75,10 +84,10 @@ class GsmbWall : public Wall {
   /// Rotate the nodal triads by the increments w (2N: w1, w2 per node in (t1, t2)).
   void rotate(const Eigen::VectorXd& w);
   void set_directors(const Points& d);  ///< sets d (normalised) and rebuilds the triads
-  const Points& directors() const { return d_; }
+  const Points& directors() const { return triads_.d; }
   const Points& reference_directors() const { return D_; }
-  const Points& t1() const { return t1_; }
-  const Points& t2() const { return t2_; }
+  const Points& t1() const { return triads_.t1; }
+  const Points& t2() const { return triads_.t2; }
   /// Director forces g_i = dE/dd_i of the last evaluate() (directors as free vectors).
   const Points& director_forces() const { return g_; }
   const std::vector<ElementRef>& elements() const { return ref_; }
@@ -86,6 +95,9 @@ class GsmbWall : public Wall {
   const MembraneLaw& law() const { return law_; }
   const GsmbOptions& options() const { return opt_; }
   GsmbOptions& options() { return opt_; }
+  /// Called once per Newton step of every solve (none by default): the residual history for a
+  /// log or a test, without changing the solve.
+  void set_trace(std::function<void(const NewtonStep&)> trace) { trace_ = std::move(trace); }
 
  private:
   void init(const Points& X, const Points& D);
@@ -95,12 +107,12 @@ class GsmbWall : public Wall {
   GsmbOptions opt_;
   Topology topo_;
   std::vector<ElementRef> ref_;
-  void nodal_normals(const Points& x, Points& n) const;
   // Newton iterations on the rotations from the current triads, the geometric tangent term floored at
   // −floor (falling back to the safer floor if CG stalls); adds to st, clears st.converged on failure.
   void newton(const Points& x, double floor, WallStats& st);
-  Points D_, d_, t1_, t2_, n_prev_, n_cur_;
-  Points d_start_, t1_start_, t2_start_;  // predicted triads at the start of a solve (retry from them)
+  Points D_, n_prev_, n_cur_;  // reference directors; facet normals of the last and current solve
+  NodalTriads triads_;
+  NodalTriads start_;  // predicted triads at the start of a solve (retry from them)
   Points fx_, g_;
   struct NodeRec { double v[12]; };  // x, d, -t2, t1 of one node (element-pass input)
   std::vector<NodeRec> nodes_;
@@ -112,6 +124,7 @@ class GsmbWall : public Wall {
   int last_newton_ = 0;  // Newton corrections of the previous call (work-saving heuristic only)
   double geometric_floor_ = 0;  // floor of the geometric tangent term, set at the start of each solve (gsmb_wall.cpp)
   mutable std::vector<double> partial_;
+  std::function<void(const NewtonStep&)> trace_;
 };
 
 }  // namespace capsflow::shell

@@ -22,6 +22,7 @@
 #include <memory>
 #include <vector>
 
+#include "capsflow/shell/director.hpp"
 #include "capsflow/shell/element.hpp"
 #include "capsflow/shell/topology.hpp"
 
@@ -79,15 +80,15 @@ class StaticShell {
 
   const Points& x() const { return x_; }
   Points displacement() const { return x_ - X_; }
-  const Points& directors() const { return d_; }
+  const Points& directors() const { return triads_.d; }
   const Topology& topology() const { return topo_; }
-  int n_dofs() const { return 5 * topo_.n_nodes; }
 
  private:
   void assemble(double lambda, bool want_K);
   double potential(double lambda) const;  ///< E - lambda (F.u + m.theta_acc)
   void apply_increment(const Eigen::VectorXd& du, double alpha);
-  Points X_, x_, d_, t1_, t2_, F_, M_, theta_acc_;
+  Points X_, x_, F_, M_, theta_acc_;
+  NodalTriads triads_;
   MembraneLaw law_;
   Topology topo_;
   std::vector<ElementRef> ref_;

@@ -10,7 +10,8 @@ namespace capsflow {
 // Per-element area and unit normal (outward for an outward-oriented mesh).
 Eigen::VectorXd element_areas(const SurfaceMesh& mesh);
 Points element_normals(const SurfaceMesh& mesh);
-// Area-weighted average of the normals of the elements around each node, normalised.
+// Area-weighted average of the normals of the elements around each node, normalised
+// (shell::area_weighted_normals, the formula of the wall's reference directors).
 Points nodal_normals(const SurfaceMesh& mesh);
 // One third of the area of the elements around each node (row sums of the mass matrix).
 Eigen::VectorXd nodal_areas(const SurfaceMesh& mesh);

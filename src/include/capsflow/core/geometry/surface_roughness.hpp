@@ -13,6 +13,7 @@
 
 #include "capsflow/core/geometry/umbrella.hpp"
 #include "capsflow/core/types.hpp"
+#include "capsflow/shell/topology.hpp"
 
 namespace capsflow {
 
@@ -31,9 +32,10 @@ class RoughnessMeter {
 
  private:
   Triangles tri_;
+  shell::Topology topo_;  // node–element incidence of the area-weighted normals
   UmbrellaOperator umbrella_;
   std::vector<std::array<int, 2>> edge_faces_;  // the two facets of each edge
-  mutable Points ux_;                 // scratch of measure(), kept between calls
+  mutable Points ux_, normals_;       // scratch of measure(), kept between calls
   mutable Eigen::VectorXd c_, uc_;
   mutable std::vector<double> angles_, osc_;
 };
