@@ -5,8 +5,8 @@
 //   I1 = lambda1^2 + lambda2^2 - 2 = A^{ab} a_ab - 2,   I2 = J_s^2 - 1 = det(a_ab)/det(A_ab) - 1.
 // (The paper's Eq. 21 prints I_s2 = J_s - 1; with that definition Eq. 23 would not reduce to the
 //  linear Hooke law Eq. 24, so J_s^2 - 1 is the intended invariant.)
-// One type per law (laws/*.hpp: generalized Hooke, neo-Hookean, Skalak, Mooney-Rivlin), each with
-// the same members: its name, make(G_s, nu_s, parameter), W (templated for automatic
+// One type per law (laws/membrane_laws.hpp: generalized Hooke, neo-Hookean, Skalak, Mooney-Rivlin),
+// each with the same members: its name, make(G_s, nu_s, parameter), W (templated for automatic
 // differentiation), W1 = dW/dI1, W2 = dW/dI2, W11, W12, W22 and the small-strain nu_s.
 // MembraneLaw holds one of them and forwards to it (std::visit: every law is handled, none is a
 // fallback).
@@ -17,11 +17,8 @@
 #include <type_traits>
 #include <variant>
 
-#include "capsflow/shell/laws/generalized_hooke.hpp"
 #include "capsflow/shell/laws/law_kind.hpp"
-#include "capsflow/shell/laws/mooney_rivlin.hpp"
-#include "capsflow/shell/laws/neo_hookean.hpp"
-#include "capsflow/shell/laws/skalak.hpp"
+#include "capsflow/shell/laws/membrane_laws.hpp"
 
 namespace capsflow::shell {
 
