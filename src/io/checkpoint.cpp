@@ -12,6 +12,7 @@
 #include "capsflow/core/io/atomic_file.hpp"
 #include "capsflow/core/io/h5.hpp"
 #include "capsflow/core/io/run_identity.hpp"
+#include "capsflow/core/io/io_error.hpp"
 #include "fnv1a.hpp"
 
 namespace capsflow::io {
@@ -22,7 +23,7 @@ namespace {
 constexpr const char* kFormatName = "capsflow-checkpoint";
 
 [[noreturn]] void fail(const std::string& name, const std::string& problem) {
-  throw std::runtime_error("checkpoint '" + name + "': " + problem);
+  throw IoError("checkpoint '" + name + "': " + problem);
 }
 
 template <typename Derived>
@@ -228,7 +229,7 @@ LoadedCheckpoint load_checkpoint_for_restart(const fs::path& given) {
     try {
       out.state = read_checkpoint(prev);
     } catch (const std::runtime_error& e2) {
-      throw std::runtime_error(std::string(e.what()) + "; the previous one is not usable either: " + e2.what());
+      throw IoError(std::string(e.what()) + "; the previous one is not usable either: " + e2.what());
     }
     out.path = prev;
     out.fallback_reason = e.what();
@@ -250,7 +251,7 @@ fs::path find_latest_checkpoint(const fs::path& folder) {
       why += (why.empty() ? "" : "; ") + std::string(e.what());
     }
   }
-  throw std::runtime_error("no usable checkpoint in '" + folder.string() + "': " + why);
+  throw IoError("no usable checkpoint in '" + folder.string() + "': " + why);
 }
 
 }  // namespace capsflow::io

@@ -85,21 +85,21 @@ bool is_empty_but_for_lock(const fs::path& dir) {
 FolderLock FolderLock::acquire(const fs::path& dir, const std::string& command) {
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
-  if (fs::exists(st) && !fs::is_directory(st)) throw std::runtime_error("output path '" + dir.string() + "' exists and is not a folder");
+  if (fs::exists(st) && !fs::is_directory(st)) throw IoError("output path '" + dir.string() + "' exists and is not a folder");
   fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error("cannot create output folder '" + dir.string() + "': " + ec.message());
+  if (ec) throw IoError("cannot create output folder '" + dir.string() + "': " + ec.message());
   FolderLock lock;
   lock.path_ = dir / kFolderLockFile;
   for (int attempt = 0;; ++attempt) {
     const int fd = ::open(lock.path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
     if (fd < 0)
-      throw std::runtime_error(fmt::format("cannot create the lock file '{}': {}", lock.path_.string(), std::strerror(errno)));
+      throw IoError(fmt::format("cannot create the lock file '{}': {}", lock.path_.string(), std::strerror(errno)));
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int err = errno;
       const std::optional<LockHolder> h = parse_holder(read_fd(fd));
       ::close(fd);
       if (err != EWOULDBLOCK)
-        throw std::runtime_error(fmt::format("cannot lock '{}': {}", lock.path_.string(), std::strerror(err)));
+        throw IoError(fmt::format("cannot lock '{}': {}", lock.path_.string(), std::strerror(err)));
       throw FolderBusy(fmt::format("output folder '{}' is in use by {}: one writer per folder (wait for it to end, or choose "
                                    "another folder)",
                                    dir.string(), h ? h->describe() : "another capsflow process that is starting"));
@@ -107,7 +107,7 @@ FolderLock FolderLock::acquire(const fs::path& dir, const std::string& command) 
     if (!still_linked(fd, lock.path_)) {  // released (and removed) between our open and flock: retry
       ::close(fd);
       if (attempt < 100) continue;
-      throw std::runtime_error("cannot lock '" + lock.path_.string() + "': the lock file keeps being replaced");
+      throw IoError("cannot lock '" + lock.path_.string() + "': the lock file keeps being replaced");
     }
     lock.fd_ = fd;
     break;
@@ -118,7 +118,7 @@ FolderLock FolderLock::acquire(const fs::path& dir, const std::string& command) 
                              .dump() +
                          "\n";
   if (::ftruncate(lock.fd_, 0) != 0 || ::pwrite(lock.fd_, me.data(), me.size(), 0) != static_cast<ssize_t>(me.size()))
-    throw std::runtime_error(fmt::format("cannot write the lock file '{}': {}", lock.path_.string(), std::strerror(errno)));
+    throw IoError(fmt::format("cannot write the lock file '{}': {}", lock.path_.string(), std::strerror(errno)));
   return lock;
 }
 

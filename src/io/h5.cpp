@@ -1,5 +1,6 @@
 // RAII layer over the HDF5 C API (see h5.hpp).
 #include "capsflow/core/io/h5.hpp"
+#include "capsflow/core/io/io_error.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -52,7 +53,7 @@ std::string hdf5_message() {
 
 [[noreturn]] void fail_file(const std::string& what, const fs::path& path) {
   const std::string msg = hdf5_message();
-  throw std::runtime_error("HDF5: " + what + " '" + path.string() + "': " + msg);
+  throw IoError("HDF5: " + what + " '" + path.string() + "': " + msg);
 }
 
 std::vector<std::string> split_path(const std::string& name) {
@@ -140,7 +141,7 @@ hid_t Location::native_type<std::int64_t>() {
 
 void Location::fail(const std::string& what, const std::string& name) const {
   const std::string msg = hdf5_message();
-  throw std::runtime_error("HDF5: " + what + " '" + child_path(name) + "' in '" + file_name() +
+  throw IoError("HDF5: " + what + " '" + child_path(name) + "' in '" + file_name() +
                            "': " + msg);
 }
 
@@ -256,14 +257,14 @@ void Location::read_raw(const std::string& name, hid_t mem_type, H5T_class_t exp
   if (!ds.valid()) fail("cannot open dataset", name);
   const Handle type(H5Dget_type(ds.get()), H5Tclose);
   if (H5Tget_class(type.get()) != expected_class) {
-    throw std::runtime_error("HDF5: dataset '" + child_path(name) + "' in '" + file_name() +
+    throw IoError("HDF5: dataset '" + child_path(name) + "' in '" + file_name() +
                              "' has the wrong type (expected " +
                              (expected_class == H5T_FLOAT ? "float" : "integer") + ")");
   }
   const Handle space(H5Dget_space(ds.get()), H5Sclose);
   const int r = H5Sget_simple_extent_ndims(space.get());
   if (r != rank) {
-    throw std::runtime_error("HDF5: dataset '" + child_path(name) + "' in '" + file_name() +
+    throw IoError("HDF5: dataset '" + child_path(name) + "' in '" + file_name() +
                              "' has rank " + std::to_string(r) + ", expected " +
                              std::to_string(rank));
   }
@@ -427,14 +428,14 @@ File File::open(const fs::path& path, Mode mode, bool ignore_lock_conflicts) {
   silence_hdf5_errors();
   std::error_code ec;
   if (!fs::exists(path, ec)) {
-    throw std::runtime_error("HDF5: cannot open file '" + path.string() + "': no such file");
+    throw IoError("HDF5: cannot open file '" + path.string() + "': no such file");
   }
   const unsigned flags = mode == Mode::read_write ? H5F_ACC_RDWR : H5F_ACC_RDONLY;
   hid_t f = H5Fopen(path.c_str(), flags, H5P_DEFAULT);
   if (f < 0) {
     const std::string msg = hdf5_message();
     if (!ignore_lock_conflicts || msg.find("lock") == std::string::npos) {
-      throw std::runtime_error("HDF5: cannot open file '" + path.string() + "': " + msg);
+      throw IoError("HDF5: cannot open file '" + path.string() + "': " + msg);
     }
 #if H5_VERSION_GE(1, 10, 7)  // H5Pset_file_locking appeared in 1.10.7
     // A reader holds the file (HDF5 >= 1.10 locking). Losing hours of run time is worse than a
@@ -449,7 +450,7 @@ File File::open(const fs::path& path, Mode mode, bool ignore_lock_conflicts) {
     f = H5Fopen(path.c_str(), flags, fapl.get());
     if (f < 0) fail_file("cannot open file", path);
 #else
-    throw std::runtime_error("HDF5: cannot open file '" + path.string() + "': " + msg +
+    throw IoError("HDF5: cannot open file '" + path.string() + "': " + msg +
                              " (set HDF5_USE_FILE_LOCKING=FALSE to write while it is read)");
 #endif
   }

@@ -12,13 +12,14 @@
 #include <system_error>
 
 #include "capsflow/core/io/folder_lock.hpp"
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io {
 namespace fs = std::filesystem;
 
 namespace {
 
-[[noreturn]] void fail(const std::string& msg) { throw std::runtime_error(msg); }
+[[noreturn]] void fail(const std::string& msg) { throw IoError(msg); }
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 

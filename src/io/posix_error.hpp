@@ -3,14 +3,15 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <stdexcept>
 #include <string>
+
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io::detail {
 
 [[noreturn]] inline void throw_errno(const std::string& what, const std::filesystem::path& path,
                                      int err = errno) {
-  throw std::runtime_error(what + " '" + path.string() + "': " + std::strerror(err));
+  throw IoError(what + " '" + path.string() + "': " + std::strerror(err));
 }
 
 }  // namespace capsflow::io::detail

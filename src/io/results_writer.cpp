@@ -14,6 +14,7 @@
 
 #include "capsflow/core/io/atomic_file.hpp"
 #include "capsflow/core/io/h5.hpp"
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io {
 namespace fs = std::filesystem;
@@ -143,7 +144,7 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
     const std::vector<hsize_t> tri = f.shape("mesh/triangles");
     const std::vector<hsize_t> ref = f.shape("mesh/reference_positions");
     if (tri.size() != 2 || tri[1] != 3 || ref.size() != 2 || ref[1] != 3) {
-      throw std::runtime_error("'" + s->h5_path().string() +
+      throw IoError("'" + s->h5_path().string() +
                                "' is not a capsflow run file: /mesh has unexpected shapes");
     }
     s->num_triangles = Eigen::Index(tri[0]);
@@ -155,7 +156,7 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
       h5::Group steps = f.require_group("steps");
       for (const std::string& name : steps.children()) {
         if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) {
-          throw std::runtime_error("'" + s->h5_path().string() + "': unexpected group /steps/" +
+          throw IoError("'" + s->h5_path().string() + "': unexpected group /steps/" +
                                    name + " (not written by capsflow?)");
         }
         h5::Group g = steps.open_group(name);
@@ -292,7 +293,7 @@ void ResultsWriter::rewrite_xdmf() const {
     // there is a step, there is no run.xmf.
     std::error_code ec;
     fs::remove(path, ec);
-    if (ec) throw std::runtime_error("cannot remove '" + path.string() + "': " + ec.message());
+    if (ec) throw IoError("cannot remove '" + path.string() + "': " + ec.message());
     return;
   }
   write_file_atomically(path, render_xdmf(kRunH5, s_->num_nodes, s_->num_triangles, s_->steps));

@@ -10,6 +10,7 @@
 
 #include "capsflow/core/io/h5.hpp"
 #include "capsflow/core/io/results_writer.hpp"
+#include "capsflow/core/io/io_error.hpp"
 #include "fnv1a.hpp"
 
 namespace capsflow::io {
@@ -39,7 +40,7 @@ FolderIdentity read_folder_identity(const fs::path& dir) {
     const h5::File f = h5::File::open(path, h5::File::Mode::read_only, true);
     const h5::RowMatrixXd x0 = f.read_matrix<double>("mesh/reference_positions");
     const h5::RowMatrixXi tri = f.read_matrix<int>("mesh/triangles");
-    if (x0.cols() != 3 || tri.cols() != 3) throw std::runtime_error("/mesh has unexpected shapes");
+    if (x0.cols() != 3 || tri.cols() != 3) throw IoError("/mesh has unexpected shapes");
     id.mesh_hash = mesh_hash(Points(x0), Triangles(tri));
     if (f.exists("metadata/run_id")) {
       id.run_id = f.read_string("metadata/run_id");
@@ -53,7 +54,7 @@ FolderIdentity read_folder_identity(const fs::path& dir) {
         if (f.exists("metadata/restarts/" + *it + "/run_id")) id.run_id = f.read_string("metadata/restarts/" + *it + "/run_id");
     }
   } catch (const std::runtime_error& e) {
-    throw std::runtime_error("cannot read the identity of the run in '" + dir.string() + "': " + e.what());
+    throw IoError("cannot read the identity of the run in '" + dir.string() + "': " + e.what());
   }
   return id;
 }

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "capsflow/core/io/atomic_file.hpp"
+#include "capsflow/core/io/io_error.hpp"
 #include "posix_error.hpp"
 
 namespace capsflow::io {
@@ -58,7 +59,7 @@ TimeseriesCsv::TimeseriesCsv(fs::path path) : path_(std::move(path)) {
     for (const std::string& l : lines) complete += l.size() + 1;
     if (complete != fs::file_size(path_, ec)) {
       fs::resize_file(path_, complete, ec);
-      if (ec) throw std::runtime_error("cannot repair '" + path_.string() + "': " + ec.message());
+      if (ec) throw IoError("cannot repair '" + path_.string() + "': " + ec.message());
     }
   }
   file_ = std::fopen(path_.c_str(), "a");

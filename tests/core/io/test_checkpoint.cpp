@@ -111,6 +111,11 @@ TEST(Checkpoint, GarbageAndForeignFilesAreRejected) {
   EXPECT_NE(error_of([&] { read_checkpoint(dir / "absent.h5"); }).find("no such file"),
             std::string::npos);
   EXPECT_THROW(find_latest_checkpoint(dir.path()), std::runtime_error);  // neither slot exists
+  // Python raises io/'s errors as OSError: they must all be IoError, damaged content included.
+  EXPECT_THROW(read_checkpoint(dir / "garbage.h5"), IoError);
+  EXPECT_THROW(read_checkpoint(dir / "run.h5"), IoError);
+  EXPECT_THROW(read_checkpoint(dir / "absent.h5"), IoError);
+  EXPECT_THROW(find_latest_checkpoint(dir.path()), IoError);
 }
 
 TEST(Checkpoint, NewerFormatAndInconsistentShapesAreRejected) {

@@ -137,5 +137,12 @@ TEST(OutputFolder, RestartRemovesStaleTemporariesOfDeadProcessesOnly) {
   EXPECT_EQ(p.removed.size(), 2u);
 }
 
+TEST(OutputFolder, ItsRefusalsAreIoErrors) {
+  TempDir dir;
+  write_text(dir / "run.h5", "previous results");
+  EXPECT_THROW(prepare_output_folder(dir.path(), false), IoError);  // Python: OSError
+  EXPECT_THROW(open_output_folder_for_restart(dir / "absent"), IoError);
+}
+
 }  // namespace
 }  // namespace capsflow::io

@@ -4,10 +4,12 @@
 //
 // Recipe: write `<name>.tmp.<pid>` in the target's folder (same file system, so rename() is
 // atomic), fsync it, rename() it over the target, fsync the folder so the rename itself survives
-// a power loss. Errors throw std::runtime_error with one line naming the path and strerror(errno).
+// a power loss. Errors throw IoError with one line naming the path and strerror(errno).
 #include <filesystem>
 #include <functional>
 #include <string_view>
+
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io {
 

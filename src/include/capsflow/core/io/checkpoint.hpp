@@ -24,6 +24,7 @@
 #include <string>
 
 #include "capsflow/core/types.hpp"
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io {
 
@@ -51,15 +52,15 @@ struct CheckpointState {
 std::filesystem::path previous_checkpoint_path(const std::filesystem::path& path);
 
 // Validates `state` (a checkpoint of a blown-up state would push the last good one out of the
-// rotation), then writes it atomically as described above. Throws std::runtime_error.
+// rotation), then writes it atomically as described above. Throws IoError.
 void write_checkpoint(const std::filesystem::path& path, const CheckpointState& state);
 
 // Reads and validates (format and version, checksum, dataset shapes, index ranges, finite
 // numbers).
-// Throws std::runtime_error with one line: "checkpoint '<path>': <problem>".
+// Throws IoError with one line: "checkpoint '<path>': <problem>".
 CheckpointState read_checkpoint(const std::filesystem::path& path);
 
-// Throws std::runtime_error "checkpoint '<name>': <problem>" if `state` is inconsistent.
+// Throws IoError "checkpoint '<name>': <problem>" if `state` is inconsistent.
 void validate_checkpoint(const CheckpointState& state, const std::string& name);
 
 // `--restart PATH`: reads PATH (a folder means PATH/checkpoint.h5). If that is damaged or missing

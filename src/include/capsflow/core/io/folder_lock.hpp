@@ -15,8 +15,9 @@
 // expires (NFSv4: ~90 s). docs/scene-and-output.md §1.1.
 #include <filesystem>
 #include <optional>
-#include <stdexcept>
 #include <string>
+
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io {
 
@@ -32,15 +33,15 @@ struct LockHolder {
 };
 
 // Another process holds the lock: what() is the one-line message naming the holder.
-class FolderBusy : public std::runtime_error {
+class FolderBusy : public IoError {
  public:
-  using std::runtime_error::runtime_error;
+  using IoError::IoError;
 };
 
 class FolderLock {
  public:
   // Creates `dir` (with parents) when missing and takes its lock. Throws FolderBusy when another
-  // process holds it, std::runtime_error when the lock file cannot be created. `command` names the
+  // process holds it, IoError when the lock file cannot be created. `command` names the
   // holder's job in the message another writer gets ("run", "study").
   static FolderLock acquire(const std::filesystem::path& dir, const std::string& command);
 

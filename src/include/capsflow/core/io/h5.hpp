@@ -3,7 +3,7 @@
 //
 // - Every identifier is owned by a Handle and closed with its matching H5?close.
 // - HDF5's automatic error-stack printing is switched off; a failing call throws
-//   std::runtime_error with one line naming the file, the object and HDF5's innermost message.
+//   IoError with one line naming the file, the object and HDF5's innermost message.
 // - Datasets are contiguous, little-endian: float64 for double, int32 for int, int64 for int64.
 //   Matrices are stored row-major with shape [rows, cols] (what h5py/numpy and XDMF expect);
 //   vectors are 1-D. Strings are fixed-length UTF-8.
@@ -18,6 +18,8 @@
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io::h5 {
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "capsflow/core/io/manifest.hpp"
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io {
 
@@ -21,7 +22,7 @@ struct PreparedFolder {
 };
 
 
-// Create `dir` (with parents) for a new run. Throws std::runtime_error (one line) when it is not
+// Create `dir` (with parents) for a new run. Throws IoError (one line) when it is not
 // a folder, is non-empty without `overwrite`, cannot be created, or is not writable.
 PreparedFolder prepare_output_folder(const std::filesystem::path& dir, bool overwrite);
 

@@ -32,6 +32,7 @@
 #include "capsflow/core/io/timeseries_csv.hpp"
 #include "capsflow/core/io/xdmf.hpp"
 #include "capsflow/core/types.hpp"
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io {
 
@@ -79,7 +80,7 @@ class ResultsWriter {
 
   // Append /steps/<k> (positions N×3, fields, attribute time), close run.h5, rewrite run.xmf.
   // Throws std::invalid_argument for wrong shapes, duplicate or reserved names, or t not
-  // greater than the last step's time; std::runtime_error for I/O failures.
+  // greater than the last step's time; IoError for I/O failures.
   void write_step(double t, const Points& positions, const NamedFields& nodal_fields = {});
 
   // Cross-sections of the last written step as /profiles/<k> (k: its position among the steps,

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "capsflow/core/types.hpp"
+#include "capsflow/core/io/io_error.hpp"
 
 namespace capsflow::io {
 
@@ -24,7 +25,7 @@ struct FolderIdentity {
   std::string mesh_hash;  // of /mesh/reference_positions and /mesh/triangles
 };
 
-// Reads DIR/run.h5. Throws std::runtime_error (one line) when run.h5 exists but cannot be read.
+// Reads DIR/run.h5. Throws IoError (one line) when run.h5 exists but cannot be read.
 FolderIdentity read_folder_identity(const std::filesystem::path& dir);
 
 }  // namespace capsflow::io
