@@ -8,6 +8,7 @@
 #include <cmath>
 #include <ctime>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -139,6 +140,8 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
   }
   auto s = std::make_unique<State>();
   s->folder = std::move(folder);
+  std::string csv_header;
+  std::map<std::int64_t, std::string> csv_rows;  // by step index: the rows run.h5 keeps (append_row)
   {
     h5::File f = h5::File::open(s->h5_path(), h5::File::Mode::read_write, true);
     const std::vector<hsize_t> tri = f.shape("mesh/triangles");
@@ -154,6 +157,7 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
     std::vector<std::pair<std::int64_t, XdmfStep>> found;
     {
       h5::Group steps = f.require_group("steps");
+      if (steps.has_attribute("csv_header")) csv_header = steps.attribute_string("csv_header");
       for (const std::string& name : steps.children()) {
         if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) {
           throw IoError("'" + s->h5_path().string() + "': unexpected group /steps/" +
@@ -166,6 +170,7 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
           steps.remove(name);
           continue;
         }
+        if (g.has_attribute("csv_row")) csv_rows.emplace(k, g.attribute_string("csv_row"));
         XdmfStep st{t, step_group(k), {}};
         for (const std::string& field : g.children()) {
           if (field == "positions") continue;
@@ -194,6 +199,13 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
   ResultsWriter w(std::move(s));
   w.rewrite_xdmf();
   TimeseriesCsv::truncate_after(w.s_->folder / kTimeseriesCsv, t_restart);
+  // Rows the CSV lost (cut by a crash) come back from run.h5 (a run.h5 of an older capsflow has
+  // none: the CSV is then kept as it is).
+  if (!csv_header.empty()) {
+    std::vector<std::string> lines;
+    for (const auto& [k, line] : csv_rows) lines.push_back(line);
+    TimeseriesCsv::restore_rows(w.s_->folder / kTimeseriesCsv, csv_header, lines);
+  }
   return w;
 }
 
@@ -268,6 +280,17 @@ void ResultsWriter::write_profiles(const std::vector<PlaneProfile>& planes) {
 
 void ResultsWriter::append_row(const CsvRow& row) {
   if (!s_->csv) s_->csv.emplace(s_->folder / kTimeseriesCsv);
+  // run.h5 keeps each row beside its step (attribute csv_row, the header as /steps' csv_header),
+  // written before the CSV's: a restart restores the rows a crash cut from the CSV (reopen).
+  if (!s_->steps.empty()) {
+    const std::string header = TimeseriesCsv::header_line(row);
+    h5::File f = h5::File::open(s_->h5_path(), h5::File::Mode::read_write, true);
+    {
+      f.open_group("steps").set_attribute("csv_header", header);
+      f.open_group(s_->steps.back().group).set_attribute("csv_row", TimeseriesCsv::value_line(row));
+    }
+    f.close();
+  }
   s_->csv->append_row(row);
 }
 

@@ -86,23 +86,20 @@ TimeseriesCsv& TimeseriesCsv::operator=(TimeseriesCsv&& o) noexcept {
   return *this;
 }
 
-void TimeseriesCsv::append_row(const CsvRow& row) {
-  if (row.empty()) throw std::invalid_argument(path_.string() + ": empty time-series row");
+std::string TimeseriesCsv::header_line(const CsvRow& row) {
+  if (row.empty()) throw std::invalid_argument("empty time-series row");
   std::vector<std::string> names;
   for (const auto& [name, value] : row) {
     if (name.empty() || name.find_first_of(",\"\n\r") != std::string::npos) {
-      throw std::invalid_argument(path_.string() + ": bad column name '" + name + "'");
+      throw std::invalid_argument("bad time-series column name '" + name + "'");
     }
     names.push_back(name);
   }
+  return join(names);
+}
+
+std::string TimeseriesCsv::value_line(const CsvRow& row) {
   std::string text;
-  if (columns_.empty()) {
-    columns_ = names;
-    text += join(names) + "\n";
-  } else if (names != columns_) {
-    throw std::invalid_argument(path_.string() + ": row columns (" + join(names) +
-                                ") differ from the header (" + join(columns_) + ")");
-  }
   for (std::size_t i = 0; i < row.size(); ++i) {
     // A value not defined yet (the steady-state measure before one window) is an empty field,
     // never "nan": readers see a missing value, and "nan" in a file always means a bug.
@@ -110,10 +107,42 @@ void TimeseriesCsv::append_row(const CsvRow& row) {
     text += i ? "," : "";
     if (std::isfinite(v)) text += fmt::format("{}", v);
   }
-  text += "\n";
+  return text;
+}
+
+void TimeseriesCsv::append_row(const CsvRow& row) {
+  std::string header;
+  try {
+    header = header_line(row);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path_.string() + ": " + e.what());
+  }
+  std::vector<std::string> names;
+  for (const auto& [name, value] : row) names.push_back(name);
+  std::string text;
+  if (columns_.empty()) {
+    columns_ = names;
+    text += header + "\n";
+  } else if (names != columns_) {
+    throw std::invalid_argument(path_.string() + ": row columns (" + join(names) +
+                                ") differ from the header (" + join(columns_) + ")");
+  }
+  text += value_line(row) + "\n";
   if (std::fwrite(text.data(), 1, text.size(), file_) != text.size() || std::fflush(file_) != 0) {
     detail::throw_errno("cannot write", path_);
   }
+}
+
+std::size_t TimeseriesCsv::restore_rows(const fs::path& path, const std::string& header,
+                                        const std::vector<std::string>& lines) {
+  std::error_code ec;
+  const std::size_t have = fs::exists(path, ec) ? complete_lines(path).size() : 0;
+  const std::size_t rows = have > 0 ? have - 1 : 0;
+  if (lines.empty() || rows >= lines.size()) return 0;
+  std::string text = header + "\n";
+  for (const std::string& l : lines) text += l + "\n";
+  write_file_atomically(path, text);
+  return lines.size() - rows;
 }
 
 std::size_t TimeseriesCsv::truncate_after(const fs::path& path, double t_restart) {

@@ -4,10 +4,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <regex>
 
 #include "capsflow/core/io/h5.hpp"
 #include "capsflow/core/io/results_writer.hpp"
+#include "capsflow/core/io/timeseries_csv.hpp"
 #include "temp_dir.hpp"
 
 namespace capsflow::io {
@@ -16,6 +18,7 @@ using testing::listing;
 using testing::read_text;
 using testing::TempDir;
 using testing::tetrahedron;
+using testing::write_text;
 
 nlohmann::json metadata() {
   return {{"scene_toml", "[mesh]\nlevel = 4\n"},
@@ -213,6 +216,44 @@ TEST(ResultsWriter, RestartTruncatesLaterStepsAndRows) {
             "t,D12\n0,0\n0.1,0.01\n0.2,0.02\n0.30000000000000004,0.03\n");
   h5::File f = h5::File::open(dir / "run.h5");
   EXPECT_EQ(f.open_group("steps").children().size(), 4u);
+}
+
+TEST(ResultsWriter, RestartWritesBackTheCsvRowsACrashCut) {
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  const std::filesystem::path csv = dir / "timeseries.csv";
+  {
+    ResultsWriter w(dir.path(), mesh, metadata());
+    for (int k = 0; k < 3; ++k) {
+      const double t = 0.1 * k;
+      write_test_step(w, mesh, t);
+      // 1/3 needs all 17 digits; NaN is written as an empty field: both must come back verbatim.
+      w.append_row({{"t", t}, {"D12", k / 3.0}, {"steady", k == 0 ? std::nan("") : 0.5}});
+    }
+  }
+  const std::string full = read_text(csv);
+  ASSERT_EQ(full, "t,D12,steady\n0,0,\n0.1,0.3333333333333333,0.5\n0.2,0.6666666666666666,0.5\n");
+  // Killed while writing the row at the checkpoint time: the file ends mid-row.
+  std::filesystem::resize_file(csv, full.size() - 5);
+  ResultsWriter::reopen(dir.path(), 0.1 * 2);
+  EXPECT_EQ(read_text(csv), full) << "the cut row is written back from run.h5";
+  // Two rows lost: both come back; a restart before them keeps only the earlier ones.
+  std::filesystem::resize_file(csv, std::string("t,D12,steady\n0,0,\n").size());
+  ResultsWriter::reopen(dir.path(), 0.2);
+  EXPECT_EQ(read_text(csv), full);
+  ResultsWriter::reopen(dir.path(), 0.15);
+  EXPECT_EQ(read_text(csv), "t,D12,steady\n0,0,\n0.1,0.3333333333333333,0.5\n");
+}
+
+TEST(TimeseriesCsv, RestoreRowsChangesNothingWhenNoRowIsMissing) {
+  TempDir dir;
+  const std::filesystem::path csv = dir / "timeseries.csv";
+  write_text(csv, "t,D12\n0,0\n0.1,0.5\n");
+  EXPECT_EQ(TimeseriesCsv::restore_rows(csv, "t,D12", {"0,0", "0.1,0.5"}), 0u);
+  EXPECT_EQ(TimeseriesCsv::restore_rows(csv, "t,D12", {}), 0u);  // a run.h5 of an older capsflow
+  EXPECT_EQ(read_text(csv), "t,D12\n0,0\n0.1,0.5\n");
+  EXPECT_EQ(TimeseriesCsv::restore_rows(csv, "t,D12", {"0,0", "0.1,0.5", "0.2,0.7"}), 1u);
+  EXPECT_EQ(read_text(csv), "t,D12\n0,0\n0.1,0.5\n0.2,0.7\n");
 }
 
 TEST(ResultsWriter, RestartBeforeTheFirstStepEmptiesTheSeries) {

@@ -2,7 +2,9 @@
 // The run's output, called by the time integrator (docs/scene-and-output.md §3):
 //
 //   DIR/run.h5          /mesh/triangles (int32 M×3), /mesh/reference_positions (float64 N×3),
-//                       /metadata, /steps/<k>/{positions, <fields>} with attribute `time`,
+//                       /metadata, /steps/<k>/{positions, <fields>} with attribute `time`
+//                       (and `csv_row`, the step's timeseries.csv line; /steps has the header
+//                       as `csv_header`: a restart restores CSV rows a crash cut),
 //                       /profiles/<k>/<plane>/{points, offsets} with attribute `time` (the
 //                       cross-sections of output k: write_profiles), /timing (written at the end)
 //   DIR/run.xmf         XDMF index for ParaView, rewritten atomically after every step; absent
@@ -69,7 +71,7 @@ class ResultsWriter {
 
   // Restart: open an existing run folder, drop the steps with time > t_restart from run.h5 and
   // run.xmf and the CSV rows with t > t_restart (a step at exactly t_restart is kept: do not
-  // write it again). Non-empty `metadata` (the restarted run's command line, ...) is recorded
+  // write it again); CSV rows that run.h5 keeps but the CSV lost are written back. Non-empty `metadata` (the restarted run's command line, ...) is recorded
   // under /metadata/restarts/<n> with attribute t_restart.
   static ResultsWriter reopen(std::filesystem::path folder, double t_restart,
                               const nlohmann::json& metadata = nlohmann::json::object());
@@ -89,7 +91,8 @@ class ResultsWriter {
   // whose groups hold nodal fields only. Replaces a group left by a run continued by --restart.
   void write_profiles(const std::vector<PlaneProfile>& planes);
 
-  // One row of timeseries.csv (header from the first row; see timeseries_csv.hpp).
+  // One row of timeseries.csv (header from the first row; see timeseries_csv.hpp), also kept in
+  // run.h5 beside the last written step.
   void append_row(const CsvRow& row);
 
   // summary.json, written atomically (keys: docs/scene-and-output.md §3.5).

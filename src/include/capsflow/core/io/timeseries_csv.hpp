@@ -36,6 +36,17 @@ class TimeseriesCsv {
   // atomically. Returns the number of rows dropped. A missing file is not an error (returns 0).
   static std::size_t truncate_after(const std::filesystem::path& path, double t_restart);
 
+  // The header line and a row's line as append_row writes them (no newline). Throws
+  // std::invalid_argument for an empty row or a bad column name.
+  static std::string header_line(const CsvRow& row);
+  static std::string value_line(const CsvRow& row);
+
+  // Restart: when the file has fewer data rows than `lines` (a row cut by a crash and dropped by
+  // truncate_after), rewrites it atomically as `header` and `lines` (run.h5's copies, in time
+  // order). Returns the number of rows restored (0: nothing was missing, the file is unchanged).
+  static std::size_t restore_rows(const std::filesystem::path& path, const std::string& header,
+                                  const std::vector<std::string>& lines);
+
  private:
   std::filesystem::path path_;
   std::FILE* file_ = nullptr;
