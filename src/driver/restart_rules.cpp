@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "capsflow/core/driver/time_grid.hpp"
+#include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/io/run_identity.hpp"
 
 namespace capsflow {
@@ -62,7 +63,8 @@ RestartPlan plan_restart(const io::CheckpointState& ck, const fs::path& checkpoi
   const std::string q = "'" + plan.folder.string() + "'";
   std::error_code ec;
   const fs::file_status st = fs::status(plan.folder, ec);
-  if (!fs::exists(st) || (fs::is_directory(st) && fs::is_empty(plan.folder, ec))) {
+  // The run's own lock file (taken before this plan) does not make a folder non-empty.
+  if (!fs::exists(st) || (fs::is_directory(st) && io::is_empty_but_for_lock(plan.folder))) {
     plan.new_folder = true;
     plan.run_id = io::new_run_id();
     plan.parent_run_id = ck.run_id;

@@ -9,6 +9,7 @@
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/taylor_deformation.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/io/output_folder.hpp"
 #include "capsflow/core/io/run_identity.hpp"
 #include "capsflow/core/io/version.hpp"
@@ -20,8 +21,6 @@ namespace capsflow {
 void Simulation::Impl::set_up() {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   threads = omp_get_max_threads();
-  // Issue 27's run-folder lock belongs at the top of set_up_folder: before any overwrite or
-  // restart decision touches the folder.
   io::CheckpointState ck;
   set_up_folder(ck);
   mesh_hash = io::mesh_hash(ref.vertices, ref.triangles);
@@ -49,40 +48,83 @@ void Simulation::Impl::set_up() {
     const auto e = nlohmann::json::parse(ck.extra);
     stepper->load(e, ck.integrator_state, st.x);
   }
-  // Issue 27's first checkpoint, as soon as the run starts, belongs here.
   if (opt.restart.empty()) observe_health();  // the reference state: no episode can begin here
   effort_mark = dyn->counters();
-  if (opt.restart.empty() || restart.new_folder) write_output();
-  else last_shape = shape_diagnostics(SurfaceMesh{st.x, ref.triangles});
+  if (opt.restart.empty() || restart.new_folder) {
+    write_output();
+    // A checkpoint as soon as the run starts: a run stopped by a full disk (or a file-size limit)
+    // before its first periodic one still leaves a state to continue from.
+    write_checkpoint(folder / io::kCheckpointFile);
+  } else {
+    last_shape = shape_diagnostics(SurfaceMesh{st.x, ref.triangles});
+  }
   t_segment_start = st.t;
 }
 
+namespace {
+
+// The folder a run will write: the new run's -o, or for a restart its -o or else the checkpoint's
+// own folder (as plan_restart decides it, but known before the checkpoint is read).
+std::filesystem::path folder_to_write(const RunOptions& opt) {
+  namespace fs = std::filesystem;
+  if (opt.restart.empty() || !opt.output_dir.empty()) return opt.output_dir;
+  std::error_code ec;
+  if (fs::is_directory(opt.restart, ec)) return opt.restart;
+  const fs::path home = fs::path(opt.restart).parent_path();
+  return home.empty() ? fs::path(".") : home;
+}
+
+}  // namespace
+
 void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
-  if (!opt.restart.empty()) {
-    io::LoadedCheckpoint loaded = io::load_checkpoint_for_restart(opt.restart);
-    if (!loaded.fallback_reason.empty())
-      spdlog::warn("{}; continuing from the previous checkpoint {} (t = {:g})", loaded.fallback_reason, loaded.path.string(),
-                   loaded.state.t);
-    ck = std::move(loaded.state);
-    checkpoint_path = loaded.path;
-    restart = plan_restart(ck, loaded.path, opt.restart_overrides, opt.output_dir);  // refuses before any write
-    scene = restart.scene;
-    folder = restart.folder;
-    if (restart.new_folder) io::prepare_output_folder(folder, false);
-    else if (const auto removed = io::open_output_folder_for_restart(folder).removed; !removed.empty())
-      spdlog::info("removed {} temporaries left by killed runs (first: {})", removed.size(), removed.front().filename().string());
-    ref = SurfaceMesh{ck.reference_positions, ck.triangles};
-    run_id = restart.run_id;
-  } else {
-    scene = opt.scene;
-    folder = opt.output_dir;
-    ref = make_reference_mesh(scene.mesh);  // validates a user mesh before touching the folder
-    const io::PreparedFolder prepared = io::prepare_output_folder(folder, opt.overwrite);
-    if (!prepared.kept.empty())
-      spdlog::info("output folder: kept {} entries capsflow did not write (first: {})", prepared.kept.size(),
-                   prepared.kept.front().filename().string());
-    run_id = io::new_run_id();
+  namespace fs = std::filesystem;
+  if (opt.restart.empty()) ref = make_reference_mesh(opt.scene.mesh);  // a bad mesh is refused before any folder exists
+  const fs::path target = folder_to_write(opt);
+  if (target.empty()) throw io::IoError("the output folder path is empty");
+  std::error_code ec;
+  if (!opt.restart.empty() && !fs::exists(opt.restart, ec)) io::load_checkpoint_for_restart(opt.restart);  // throws: names it
+  // One writer per folder: locked before any overwrite, identity or restart decision, and before a
+  // restart reads a checkpoint that a running writer may still replace. A folder created only to
+  // be locked is removed again when the set-up is refused.
+  const bool existed = fs::exists(target, ec);
+  folder_lock = io::FolderLock::acquire(target, "run");
+  if (folder_lock.taken_over())
+    spdlog::warn("output folder {}: took over the lock of {}, which is gone", target.string(), folder_lock.taken_over()->describe());
+  try {
+    if (opt.restart.empty()) set_up_new_folder();
+    else set_up_restart_folder(ck);
+  } catch (...) {
+    folder_lock.release();
+    if (!existed) fs::remove(target, ec);  // removes only a folder that is still empty
+    throw;
   }
+}
+
+void Simulation::Impl::set_up_restart_folder(io::CheckpointState& ck) {
+  io::LoadedCheckpoint loaded = io::load_checkpoint_for_restart(opt.restart);
+  if (!loaded.fallback_reason.empty())
+    spdlog::warn("{}; continuing from the previous checkpoint {} (t = {:g})", loaded.fallback_reason, loaded.path.string(),
+                 loaded.state.t);
+  ck = std::move(loaded.state);
+  checkpoint_path = loaded.path;
+  restart = plan_restart(ck, loaded.path, opt.restart_overrides, opt.output_dir);  // refuses before any write
+  scene = restart.scene;
+  folder = restart.folder;
+  if (restart.new_folder) io::prepare_output_folder(folder, false);
+  else if (const auto removed = io::open_output_folder_for_restart(folder).removed; !removed.empty())
+    spdlog::info("removed {} temporaries left by killed runs (first: {})", removed.size(), removed.front().filename().string());
+  ref = SurfaceMesh{ck.reference_positions, ck.triangles};
+  run_id = restart.run_id;
+}
+
+void Simulation::Impl::set_up_new_folder() {
+  scene = opt.scene;
+  folder = opt.output_dir;
+  const io::PreparedFolder prepared = io::prepare_output_folder(folder, opt.overwrite);
+  if (!prepared.kept.empty())
+    spdlog::info("output folder: kept {} entries capsflow did not write (first: {})", prepared.kept.size(),
+                 prepared.kept.front().filename().string());
+  run_id = io::new_run_id();
 }
 
 void Simulation::Impl::restore(const io::CheckpointState& ck) {

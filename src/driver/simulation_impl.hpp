@@ -19,6 +19,7 @@
 #include "capsflow/core/health/instability_watch.hpp"
 #include "capsflow/core/health/steady_state.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/io/results_writer.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
@@ -47,7 +48,9 @@ struct Simulation::Impl {
 
   // run_setup.cpp
   void set_up();
-  void set_up_folder(io::CheckpointState& ck);
+  void set_up_folder(io::CheckpointState& ck);         // takes the folder lock, then:
+  void set_up_restart_folder(io::CheckpointState& ck);  // the restart plan, the checkpoint's mesh
+  void set_up_new_folder();
   void restore(const io::CheckpointState& ck);
   nlohmann::json metadata() const;
   void log_set_up() const;
@@ -79,6 +82,7 @@ struct Simulation::Impl {
   Scene scene;
   SurfaceMesh ref;
   std::filesystem::path folder;
+  io::FolderLock folder_lock;              // one writer per run folder, held for the life of the run
   RestartPlan restart;                     // restart.new_folder: a new run folder started from the checkpoint
   std::filesystem::path checkpoint_path;   // the checkpoint actually read (after a fallback: the previous one)
   std::string run_id, mesh_hash;

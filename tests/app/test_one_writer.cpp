@@ -38,9 +38,9 @@ class Background {
   }
   ~Background() { stop(); }
   pid_t pid() const { return pid_; }
-  int stop() {
+  int stop(int signal = SIGTERM) {
     if (pid_ <= 0) return status_;
-    ::kill(pid_, SIGTERM);
+    ::kill(pid_, signal);
     int st = 0;
     ::waitpid(pid_, &st, 0);
     pid_ = -1;
@@ -61,6 +61,17 @@ bool wait_for_lock(const fs::path& lock) {
   return false;
 }
 
+// Waits (at most 60 s) until `file` exists.
+bool wait_for_file(const fs::path& file) {
+  for (int i = 0; i < 600 && !fs::exists(file); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  return fs::exists(file);
+}
+
+// A run that takes minutes (a membrane capsule at level 2 to γ̇t = 50 on one thread), and one of a
+// few seconds.
+const std::string kLongRun = "run --set wall.model=membrane --set mesh.level=2 --set time.t_end=50 --threads 1";
+const std::string kShortRun = "run --set wall.model=membrane --set mesh.level=1 --set time.t_end=0.05 --threads 1";
+
 // A study that takes minutes: the second one must not wait for it.
 const std::string kLongStudy =
     "study --levels 2,3 --set wall.model=membrane --set flow.ca_s=0.2 --set time.t_end=50 --threads 1";
@@ -78,6 +89,59 @@ TEST(OneWriter, ASecondStudyOnTheSameFolderIsRefusedNamingTheFirst) {
   EXPECT_EQ(capsflow(kLongStudy + " --overwrite -o " + study.string(), d.path).code, 1);
   first.stop();
   EXPECT_FALSE(fs::exists(study / ".capsflow.lock")) << "the first study released its lock when it stopped";
+}
+
+TEST(OneWriter, ASecondRunOnTheSameFolderIsRefusedWithOrWithoutOverwriteAndChangesNothing) {
+  TempDir d;
+  const fs::path run = d.path / "run";
+  Background first(kLongRun + " -o " + run.string(), d.path / "first.log");
+  ASSERT_TRUE(wait_for_lock(run / ".capsflow.lock")) << slurp(d.path / "first.log");
+  for (const std::string extra : {"", " --overwrite"}) {
+    const auto second = capsflow(kShortRun + extra + " -o " + run.string(), d.path);
+    EXPECT_EQ(second.code, 1) << extra << ": " << second.out;
+    EXPECT_NE(second.out.find("is in use by pid " + std::to_string(first.pid())), std::string::npos) << second.out;
+    EXPECT_NE(second.out.find("capsflow run"), std::string::npos) << second.out;
+  }
+  EXPECT_EQ(first.stop(), 130) << slurp(d.path / "first.log");  // SIGTERM: checkpoint, summary, exit 130
+  // The first run's files are its own: its summary names the mesh it ran (level 2: 320 elements, the
+  // refused level-1 runs have 80) and the run.h5 identity it wrote.
+  const auto summary = capsflow_test::json_of(run / "summary.json");
+  EXPECT_EQ(summary.at("stop_reason"), "interrupted");
+  EXPECT_EQ(summary.at("elements"), 320) << summary.dump();
+  EXPECT_FALSE(fs::exists(run / ".capsflow.lock")) << "the first run released its lock when it stopped";
+  // Now the folder is free: a restart continues it.
+  const auto again = capsflow("run --restart " + run.string() + " --set time.t_end=" +
+                                  std::to_string(summary.at("t").get<double>() + 0.02),
+                              d.path);
+  EXPECT_EQ(again.code, 0) << again.out;
+}
+
+TEST(OneWriter, TwoRestartsOfOneFolderAreNotBothAccepted) {
+  TempDir d;
+  const fs::path run = d.path / "run";
+  ASSERT_EQ(capsflow(kShortRun + " -o " + run.string(), d.path).code, 0);
+  Background first("run --restart " + run.string() + " --set time.t_end=50", d.path / "first.log");
+  ASSERT_TRUE(wait_for_lock(run / ".capsflow.lock")) << slurp(d.path / "first.log");
+  const auto second = capsflow("run --restart " + run.string() + " --set time.t_end=0.1", d.path);
+  EXPECT_EQ(second.code, 1) << second.out;
+  EXPECT_NE(second.out.find("is in use by pid " + std::to_string(first.pid())), std::string::npos) << second.out;
+  EXPECT_EQ(first.stop(), 130) << slurp(d.path / "first.log");
+}
+
+TEST(OneWriter, TheLockOfAKilledRunIsTakenOverAndItsFirstCheckpointContinues) {
+  TempDir d;
+  const fs::path run = d.path / "run";
+  Background first(kLongRun + " -o " + run.string(), d.path / "first.log");
+  ASSERT_TRUE(wait_for_lock(run / ".capsflow.lock")) << slurp(d.path / "first.log");
+  // The checkpoint written as the run starts (issue 27): present before any periodic one is due.
+  ASSERT_TRUE(wait_for_file(run / "checkpoint.h5")) << slurp(d.path / "first.log");
+  const pid_t killed = first.pid();
+  first.stop(SIGKILL);  // no chance to release: the lock file still names it
+  ASSERT_TRUE(fs::exists(run / ".capsflow.lock"));
+  const auto again = capsflow("run --restart " + run.string() + " --set time.t_end=0.02", d.path);
+  EXPECT_EQ(again.code, 0) << again.out;
+  EXPECT_NE(again.out.find("took over the lock of pid " + std::to_string(killed)), std::string::npos) << again.out;
+  EXPECT_FALSE(fs::exists(run / ".capsflow.lock"));
 }
 
 }  // namespace
