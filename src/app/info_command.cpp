@@ -14,6 +14,7 @@
 #include "capsflow/core/stepping/stability.hpp"
 #include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
+#include "capsflow/core/stepping/heun.hpp"
 #include "capsflow/core/stepping/rkc.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/scene/scene_keys.hpp"
@@ -65,6 +66,7 @@ int info_command(const InfoOptions& opt) {
   // Heun's real stability interval is 2, so the calibrated limit implies a spectral radius.
   const double rho_analytic = 2.0 / se.limit();
   double rho = rho_analytic, seconds_per_eval = NAN;
+  double power_evaluations = 10;  // per ρ refresh, when not measured (--probe)
   const bool probe = opt.probe || mesh.num_elements() <= InfoOptions::kProbeElements;
   if (probe) {
     CapsuleDynamics dyn(scene, mesh);
@@ -76,6 +78,7 @@ int info_command(const InfoOptions& opt) {
     SpectralRadiusEstimator power;
     const SpectralRadiusEstimator::Result r = power.estimate(dyn, mesh.vertices, v);
     rho = kSpectralRadiusMargin * r.sigma;
+    power_evaluations = r.evaluations;
     fmt::print("spectral radius {:.3e} by power iteration ({} evaluations{}; × {:g} margin), analytic {:.3e} (ratio {:.2f})\n",
                rho, r.evaluations, r.converged ? "" : ", NOT converged", kSpectralRadiusMargin, rho_analytic,
                rho / rho_analytic);
@@ -95,14 +98,21 @@ int info_command(const InfoOptions& opt) {
     return steps < 1e15 ? fmt::format("{:.0f}", steps)
                         : std::isfinite(steps) ? fmt::format("{:.3g}", steps) : std::string("more than 1e308");
   };
+  // Every output evaluates the velocity at the state once more (the initial and the final one
+  // included), and Heun refreshes ρ by power iteration every Heun::kRhoEvery steps from step 0.
+  const double outputs = std::ceil(scene.time.t_end / scene.output.every - 1e-9) + 1;
   if (scene.time.scheme == TimeScheme::Heun) {
     // The run's automatic step also respects 2/ρ when the power iteration measured ρ.
     const double limit = probe ? std::min(se.limit(), 2.0 / rho) : se.limit();
     const double dt = scene.time.dt_auto ? scene.time.dt_safety * limit : scene.time.dt;
     const double steps = estimated_steps(scene.time.t_end, scene.output.every, dt);
-    fmt::print("time step       {:.3e} ({}), about {} steps to t_end = {:g}: {} evaluations{}\n", dt,
-               scene.time.dt_auto ? fmt::format("auto: {:g} × min(stable dt, 2/ρ), recomputed every step", scene.time.dt_safety) : "fixed",
-               count(steps), scene.time.t_end, count(2 * steps), wall(2 * steps));
+    const double refreshes = std::floor(steps / static_cast<double>(Heun::kRhoEvery)) + 1;
+    const double evals = 2 * steps + outputs + refreshes * power_evaluations;
+    fmt::print("time step       {:.3e} ({}), about {} steps to t_end = {:g}: {} evaluations{} (2 per step, {:.0f} for the "
+               "outputs, {:.0f} ρ refreshes × {:.0f}{})\n",
+               dt, scene.time.dt_auto ? fmt::format("auto: {:g} × min(stable dt, 2/ρ), recomputed every step", scene.time.dt_safety) : "fixed",
+               count(steps), scene.time.t_end, count(evals), wall(evals), outputs, refreshes, power_evaluations,
+               probe ? "" : " assumed");
   } else if (!scene.time.dt_auto) {
     const double dt = scene.time.dt, steps = estimated_steps(scene.time.t_end, scene.output.every, dt);
     const int s = RkcCoefficients::stages_for(dt * rho);
