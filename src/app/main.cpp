@@ -94,8 +94,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, kMaxThreads));
   study_cmd->add_option("--slurm-opt", study.slurm_options, "an sbatch option for every job, e.g. --slurm-opt=--partition=short "
                                                             "(repeatable)")->allow_extra_args(false);
-  study_cmd->add_option("--analyse", study.analyse, "analyse the study in FOLDER on whatever has finished, say what is missing");
   study_cmd->add_option("--variant", study.variant, "run only this variant of the study (what the jobs run)");
+  CLI::Option* analyse_opt = study_cmd->add_option("--analyse", study.analyse, "analyse the study in FOLDER on whatever has "
+                                                   "finished, say what is missing (the study as FOLDER/study.json records it)");
+  // The analysed study is the one its folder records: an option that would define or run another
+  // one is a mistake, not something to ignore.
+  for (CLI::Option* o : study_cmd->get_options())
+    if (o != analyse_opt && o->get_name() != "--help" && o->get_name() != "--verbose") analyse_opt->excludes(o);
 
   try {
     cli.parse(argc, argv);

@@ -154,14 +154,17 @@ int submit_study(const StudyPlan& plan, const StudyOptions& o, std::vector<Varia
       const std::string ended = client.ended(rec->second.job);
       const std::string why = last_error_line(o.dir / rec->second.log);
       const std::string job = "job " + rec->second.job + (ended.empty() ? "" : " (" + ended + ")");
+      // Killed at its limit before it could write a checkpoint (slurmctld's state while it remembers
+      // the job, else slurmstepd's line in the log): the same limit would kill it again.
+      const bool timed_out = ended.rfind("TIMEOUT", 0) == 0 || why.find("DUE TO TIME LIMIT") != std::string::npos;
+      if (records[i].state == VariantState::Interrupted || timed_out) previous_minutes[i] = rec->second.minutes;
       if (records[i].state == VariantState::Interrupted) {
-        previous_minutes[i] = rec->second.minutes;
         spdlog::warn("study {}: {} stopped with a checkpoint{}; submitted again with more time, to continue from it", v.name, job,
                      why.empty() ? "" : " — " + why);
       } else {
         records[i].state = VariantState::Error;
         records[i].note = job + " ended without a result" + (why.empty() ? "" : ": " + why);
-        spdlog::warn("study {}: {}; submitted again", v.name, records[i].note);
+        spdlog::warn("study {}: {}; submitted again{}", v.name, records[i].note, timed_out ? " with more time" : "");
       }
     }
     todo.push_back(i);
