@@ -18,7 +18,7 @@ constexpr double kEquibiaxialRoundOff = 5e-7;
 
 TEST(MembraneCompression, NoneAtRestOrInflated) {
   const SurfaceMesh ref = make_sphere_mesh(BaseSolid::Icosahedron, 3);
-  const shell::MembraneLaw law{};  // neo-Hookean, G_s = 1
+  const shell::MembraneLaw law = shell::make_law(shell::LawKind::NeoHookean, 1.0);  // G_s = 1
   const MembraneCompression rest = membrane_compression(ref, ref.vertices, law);
   EXPECT_EQ(rest.compressed_area_fraction, 0.0);
   EXPECT_GT(rest.min_tension, -kCompressionRoundOff);  // round-off of the stretches only
@@ -29,7 +29,7 @@ TEST(MembraneCompression, NoneAtRestOrInflated) {
 
 TEST(MembraneCompression, UniformShrinkCompressesEveryFacetByTheClosedForm) {
   const SurfaceMesh ref = make_sphere_mesh(BaseSolid::Icosahedron, 3);
-  const shell::MembraneLaw law{};
+  const shell::MembraneLaw law = shell::make_law(shell::LawKind::NeoHookean, 1.0);
   // x = 0.9 X maps every flat facet onto a copy shrunk by 0.9 in both directions.
   const MembraneCompression m = membrane_compression(ref, 0.9 * ref.vertices, law);
   EXPECT_NEAR(m.compressed_area_fraction, 1.0, 1e-14);  // every facet; round-off of the area sums
@@ -38,7 +38,7 @@ TEST(MembraneCompression, UniformShrinkCompressesEveryFacetByTheClosedForm) {
 
 TEST(MembraneCompression, AShrunkCapIsFoundWhereItIs) {
   const SurfaceMesh ref = make_sphere_mesh(BaseSolid::Icosahedron, 3);
-  const shell::MembraneLaw law{};
+  const shell::MembraneLaw law = shell::make_law(shell::LawKind::NeoHookean, 1.0);
   // The cap z > 0.5 shrunk by 0.9 towards the centre: its facets are equibiaxially compressed,
   // the facets around z < 0.4 untouched; those across the rim are distorted.
   Points x = ref.vertices;
