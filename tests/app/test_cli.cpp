@@ -309,8 +309,11 @@ TEST(Cli, EveryFileWrittenIsInTheManifestAndOverwriteKeepsTheRest) {
   EXPECT_NE(slurp(out / "log").find("stopped: t_end"), std::string::npos);  // its own log survived
   EXPECT_EQ(slurp(out / "capsflow.log"), "earlier log");
   EXPECT_EQ(slurp(out / "checkpoint_backup_from_cluster.h5"), "precious");
-  EXPECT_FALSE(fs::exists(out / "checkpoint.prev.h5"));  // the earlier run's files are gone
   EXPECT_EQ(summary_of(out).at("t"), 0.1);
+  // The earlier run's checkpoints are gone: the previous slot holds this run's first one (t = 0).
+  const capsflow::io::CheckpointState prev = capsflow::io::read_checkpoint(out / "checkpoint.prev.h5");
+  EXPECT_EQ(prev.t, 0.0);
+  EXPECT_EQ(prev.run_id, summary_of(out).at("run_id").get<std::string>());
 }
 
 TEST(Cli, AFullDiskIsAOneLineErrorWithExitCode1NotACrash) {
