@@ -20,7 +20,7 @@ import sys
 
 REL_TOL = 1e-13
 # Keys whose values depend on the machine or the build, not on the numerics.
-SKIP = {"wall_seconds", "total_seconds", "seconds_per_evaluation", "seconds_per_step", "phases",
+SKIP = {"wall_seconds", "total_seconds", "seconds_per_evaluation", "seconds_per_step", "phases", "cpu_seconds", "total_cpu_seconds",
         "peak_rss_mb", "run_id", "version", "git", "git_hash", "command_line", "build", "threads"}
 # Integer counts that must match exactly (booleans and strings must match exactly too).
 EXACT = {"steps", "rhs_evaluations", "rejected_steps", "stages_max", "spectral_radius_evaluations",

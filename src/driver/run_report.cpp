@@ -51,19 +51,25 @@ nlohmann::json Simulation::Impl::timing_table() const {
   const RhsCounters& n = dyn->counters();
   const double total = wall_seconds() - st.wall_seconds_before;
   // "other" is what the phases do not cover (the scheme's updates, diagnostics, output).
-  nlohmann::json phases = nlohmann::json::object();
-  double known = 0;
+  // cpu_seconds: the same phases in CPU seconds of all threads (CPU/wall = busy threads).
+  const double total_cpu = segment_clock.cpu_seconds();
+  nlohmann::json phases = nlohmann::json::object(), cpu = nlohmann::json::object();
+  double known = 0, known_cpu = 0;
   for (std::size_t i = 0; i < kPhaseNames.size(); ++i) {
     const Phase ph = static_cast<Phase>(i);
     if (ph == Phase::Other) continue;
     phases[kPhaseNames[i]] = p[ph];
+    cpu[kPhaseNames[i]] = p.cpu(ph);
     known += p[ph];
+    known_cpu += p.cpu(ph);
   }
   phases[kPhaseNames[static_cast<std::size_t>(Phase::Other)]] = std::max(0.0, total - known);
-  return {{"total_seconds", total}, {"steps", steps_this_segment}, {"rhs_evaluations", n.evaluations},
+  cpu[kPhaseNames[static_cast<std::size_t>(Phase::Other)]] = std::max(0.0, total_cpu - known_cpu);
+  return {{"total_seconds", total}, {"total_cpu_seconds", total_cpu}, {"threads", threads},
+          {"steps", steps_this_segment}, {"rhs_evaluations", n.evaluations},
           {"seconds_per_evaluation", n.evaluations ? total / static_cast<double>(n.evaluations) : 0},
           {"seconds_per_step", steps_this_segment ? total / static_cast<double>(steps_this_segment) : 0},
-          {"phases", phases},
+          {"phases", phases}, {"cpu_seconds", cpu},
           {"iterations", {{"newton", n.newton_iterations}, {"rotation_cg", n.cg_iterations}, {"mass_cg", n.mass_cg_iterations},
                           {"rotation_fresh_starts", n.rotation_fresh_starts}}}};
 }
@@ -94,10 +100,12 @@ nlohmann::json Simulation::Impl::summary() const {
 
 void Simulation::Impl::log_finish(const nlohmann::json& timing) const {
   const auto& s = last_shape;
-  spdlog::info("phase                       seconds   share");
+  spdlog::info("phase                       seconds   share  cpu/wall ({} threads)", threads);
   const double total = timing["total_seconds"].get<double>();
-  for (const auto& [k, v] : timing["phases"].items())
-    spdlog::info("  {:<26}{:>8.2f}  {:>5.1f}%", k, v.get<double>(), total > 0 ? 100 * v.get<double>() / total : 0);
+  for (const auto& [k, v] : timing["phases"].items()) {
+    const double wall = v.get<double>(), cpu = timing["cpu_seconds"][k].get<double>();
+    spdlog::info("  {:<26}{:>8.2f}  {:>5.1f}%  {:>8.2f}", k, wall, total > 0 ? 100 * wall / total : 0, wall > 0 ? cpu / wall : 0);
+  }
   spdlog::info("D12 {:.4f}  D13 {:.4f}  D23 {:.4f}  L {:.3f} {:.3f} {:.3f}  Le {:.3f} {:.3f} {:.3f}", s.D.D12, s.D.D13, s.D.D23,
                s.L[0], s.L[1], s.L[2], s.Le[0], s.Le[1], s.Le[2]);
 }

@@ -440,6 +440,23 @@ TEST(Cli, InfoCountsTheStepsOutputTimesForceAndNotesTheCapillaryNumber) {
   EXPECT_NE(g.out.find("note: Ca_s = 0.05 follows from flow.ca_v"), std::string::npos) << g.out;
 }
 
+// The timing table gives every phase in CPU seconds beside its wall seconds (how parallel it is).
+TEST(Cli, TheTimingTableHasTheCpuSecondsOfEveryPhase) {
+  TempDir d;
+  ASSERT_EQ(run(std::string("run ") + kTiny + " --set time.t_end=0.05 -o " + (d.path / "o").string(), d.path).code, 0);
+  const nlohmann::json timing = summary_of(d.path / "o").at("timing");
+  double sum = 0;
+  for (const auto& [phase, wall] : timing.at("phases").items()) {
+    ASSERT_TRUE(timing.at("cpu_seconds").contains(phase)) << phase;
+    EXPECT_GE(timing["cpu_seconds"][phase].get<double>(), 0.0) << phase;
+    sum += timing["cpu_seconds"][phase].get<double>();
+  }
+  EXPECT_EQ(timing["cpu_seconds"].size(), timing["phases"].size());
+  // "other" is the rest of the segment's CPU time, so the phases add up to it (round-off only).
+  EXPECT_NEAR(sum, timing.at("total_cpu_seconds").get<double>(), 1e-9 * sum + 1e-12);
+  EXPECT_EQ(timing.at("threads"), 2);  // kTiny's --threads 2
+}
+
 // Issue 27: `info` predicted 2 evaluations per Heun step (110 here) where the run made 139: every
 // output evaluates the velocity once more, and ρ is refreshed by power iteration every 50 steps.
 TEST(Cli, InfoPredictsTheEvaluationsOfAHeunRun) {
