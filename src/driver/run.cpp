@@ -190,6 +190,9 @@ int Simulation::finish() {
   spdlog::info("stopped: {} at t = {:g} after {} steps ({} rejected), {} right-hand-side evaluations, {:.1f} s", reason.name(), s.st.t,
                s.st.step, s.st.rejected_steps, s.rhs_evaluations(), s.wall_seconds());
   s.log_finish(timing);
+  // The folder is complete: another writer may continue it while this object lives on (a
+  // binding's Simulation is still read after finish()).
+  s.folder_lock.release();
   return reason.exit_code();
 }
 

@@ -38,7 +38,8 @@ class Simulation {
   // over — also when it already was; nullopt while it goes on.
   std::optional<StopReason> step();
   // The last output (unless the state was just written), the checkpoint, summary.json and the
-  // closing log; returns the exit code of the stop reason (t_end if the run was not stopped).
+  // closing log; releases the folder's lock (another run may continue it while this object is still
+  // read); returns the exit code of the stop reason (t_end if the run was not stopped).
   int finish();
   // set_up, step until a stop, finish.
   int run();
