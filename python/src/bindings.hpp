@@ -11,4 +11,7 @@ void bind_fmm(pybind11::module_& m);
 // Scenes: parse, load, resolve, write back (scene_bindings.cpp).
 void bind_scene(pybind11::module_& m);
 
+// Runs: the driver's Simulation, its progress line, the C++ log level (run_bindings.cpp).
+void bind_run(pybind11::module_& m);
+
 }  // namespace capsflow::python

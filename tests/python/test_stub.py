@@ -40,7 +40,7 @@ def test_the_stub_matches_the_module():
 
 def test_every_public_name_has_a_docstring():
     missing = []
-    for module in (capsflow, capsflow.fmm, capsflow.results, capsflow.scene):
+    for module in (capsflow, capsflow.fmm, capsflow.results, capsflow.scene, capsflow.simulation):
         for name in getattr(module, "__all__"):
             value = getattr(module, name)
             if callable(value) and not inspect.getdoc(value):
