@@ -78,6 +78,18 @@ class Scene:
             raise KeyError(f"no scene key {key!r}")
         return d[section][name]
 
+    def info(self, probe: bool = False) -> dict:
+        """What `capsflow info` prints after the resolved scene, as a dict (docs/python.md §3):
+        'source', 'scene_toml', 'note'; 'mesh' (elements, nodes, edges, edge_length, angle_deg,
+        valence, volume, equivalent_radius, area, sphere_area, Le, L, D12, D13, D23); 'run' (backend,
+        backend_reason, fmm_order_warning, stable_dt, spectral_radius, seconds_per_evaluation,
+        threads, scheme, scheme_auto, time_step, memory_mb, memory_fmm_operators). Up to 20 480
+        elements (or with probe=True) the right-hand side is evaluated, as `capsflow info` does: the
+        time per evaluation (measured, NaN otherwise) and the spectral radius by power iteration."""
+        if not isinstance(probe, bool):
+            raise TypeError(f"probe must be True or False, got {type(probe).__name__}")
+        return _core.scene_info(self._resolved, probe)
+
     def to_dict(self) -> dict:
         """The resolved scene as {section: {key: value}} (summary.json's 'scene')."""
         return json.loads(self._resolved.to_json())

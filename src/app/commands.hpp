@@ -9,9 +9,8 @@ struct InfoOptions {
   std::string scene_path;  // empty: built-in default scene
   std::vector<std::string> overrides;
   // Evaluate the right-hand side (time per evaluation, spectral radius by power iteration):
-  // automatic up to kProbeElements elements, forced by --probe.
+  // automatic up to kInfoProbeElements elements (info/scene_info.hpp), forced by --probe.
   bool probe = false;
-  static constexpr long kProbeElements = 20480;
   bool keys = false;  // print the scene keys (the tables of docs/scene-and-output.md §2) instead
 };
 int info_command(const InfoOptions& opt);

@@ -102,3 +102,54 @@ def test_every_key_is_documented_and_resolved():
     # the key table and the resolved scene name the same keys (a key missing from either is a bug)
     assert {k["key"] for k in keys} == {f"{s}.{k}" for s, d in resolved.items() for k in d}
     assert all(k["meaning"] and k["type"] for k in keys)
+
+
+def cli_report(exe, *args) -> dict:
+    """`capsflow info ARGS`'s report lines after the resolved scene, as {label: rest of the line}."""
+    out = run_cli(exe, "info", *args).stdout
+    report = out.split("# reference mesh\n", 1)[1]
+    return {line[:16].strip(): line[16:] for line in report.splitlines() if line and not line.startswith(("#", " "))}
+
+
+def test_info_is_what_the_command_line_prints(capsflow_exe):
+    path = SOURCE_DIR / "scenes" / "sphere_simple_shear.toml"
+    scene = capsflow.Scene(path).set("mesh.level", 2)
+    info = scene.info()
+    cli = cli_report(capsflow_exe, path, "--set", "mesh.level=2")
+    m, r = info["mesh"], info["run"]
+    assert info["scene_toml"] == scene.to_toml() and info["source"] == scene.source
+    # the printed values, at the precision printed
+    assert cli["elements"] == str(m["elements"]) and cli["nodes"] == str(m["nodes"]) and cli["edges"] == str(m["edges"])
+    assert cli["D12 D13 D23"].split() == [f"{m[k]:.4f}" for k in ("D12", "D13", "D23")]
+    assert cli["Le (inertia)"].split() == [f"{v:.4f}" for v in m["Le"]]
+    assert cli["valence"].split() == [f"{v}:{n}" for v, n in m["valence"].items()]
+    assert cli["back end"] == f"{r['backend']} ({r['backend_reason']})"
+    assert cli["stable dt"].startswith(f"{r['stable_dt']['limit']:.3e} at t = 0")
+    assert cli["time scheme"].startswith(r["scheme"]) and r["scheme"] == "heun"  # auto: a membrane wall
+    assert cli["time step"].startswith(f"{r['time_step']['dt']:.3e} (auto")
+    # probed at 320 elements (as the command line does up to 20 480): measured, power iteration
+    assert r["spectral_radius"]["method"] == "power_iteration" and r["seconds_per_evaluation"] > 0
+    assert cli["spectral radius"].startswith(f"{r['spectral_radius']['value']:.3e} by power iteration")
+
+
+def test_info_numbers_agree_with_geometry():
+    info = capsflow.Scene({"mesh": {"level": 2}}).info()  # the default prolate spheroid, aspect 1.4 along z
+    m = info["mesh"]
+    # a closed genus-0 triangulation: V − E + F = 2, and every edge has two triangles: 2E = 3F
+    assert m["nodes"] - m["edges"] + m["elements"] == 2 and 2 * m["edges"] == 3 * m["elements"]
+    assert sum(m["valence"].values()) == m["nodes"]
+    # ℓ is the radius of the sphere of the same volume; 4πℓ² its area (rounding only: 1e-14)
+    assert 4 / 3 * np.pi * m["equivalent_radius"] ** 3 == pytest.approx(m["volume"], rel=1e-14)
+    assert m["sphere_area"] == pytest.approx(4 * np.pi * m["equivalent_radius"] ** 2, rel=1e-14)
+    # the spheroid's semi-axes have ratio 1.4 (the mesh's inertia ellipsoid to 1e-3 at 320 elements:
+    # a discretization error of the polyhedron's moments)
+    assert m["Le"][2] / m["Le"][0] == pytest.approx(1.4, rel=1e-3)
+    assert m["area"] > m["sphere_area"]  # a spheroid has more area than the sphere of its volume
+    # its Taylor deformation in the x-z plane for a/b = 1.4 along z: (b − a)/(a + b) = −0.4/2.4
+    assert m["D13"] == pytest.approx(-0.4 / 2.4, rel=1e-3)
+    # a larger mesh is not evaluated unless asked: no measured time, the analytic spectral radius
+    big = capsflow.Scene({"mesh": {"level": 6}}).info()
+    assert big["run"]["spectral_radius"]["method"] == "analytic" and np.isnan(big["run"]["seconds_per_evaluation"])
+    assert big["mesh"]["elements"] == 20 * 4 ** 6  # an icosahedron refined 6 times
+    with pytest.raises(TypeError):
+        capsflow.Scene().info(probe="yes")
