@@ -352,3 +352,21 @@ def test_an_exception_in_a_with_block_stops_the_run_as_interrupted(tmp_path):
     sim.step()
     assert sim.finish().stop_reason == "interrupted"
     assert capsflow.run(None, None, restart=tmp_path / "early", log=False).stop_reason == "t_end"
+
+
+def test_request_stop_ends_the_run_as_interrupted(tmp_path):
+    sim = capsflow.Simulation(small_scene(), tmp_path / "out", log=False)
+    assert sim.step() is None
+    sim.request_stop()
+    assert sim.step() == "interrupted" and sim.steps == 1  # the request is honoured before any attempt
+    assert sim.finish().summary["stop_reason"] == "interrupted"
+
+
+def test_the_log_is_the_command_lines_or_silent(capfd, tmp_path):
+    capsflow.run(small_scene(), tmp_path / "loud", log=True)
+    out = capfd.readouterr().out
+    assert "stopped: t_end" in out and "D12" in out  # the command line's closing lines, from C++ on stdout
+    capsflow.run(small_scene(), tmp_path / "quiet", log=False)
+    assert capfd.readouterr().out == ""
+    capsflow.run(small_scene(), tmp_path / "loud again")  # the level is restored after log=False
+    assert "stopped: t_end" in capfd.readouterr().out
