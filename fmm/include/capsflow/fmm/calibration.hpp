@@ -1,10 +1,14 @@
 #pragma once
 // capsflow::fmm calibration — tolerance -> order, default leaf size, and the measured crossover
-// at which the FMM beats direct summation. Measured with perf/fmm/fmm_bench on the development
-// machine (2 threads, AVX-512; see perf/fmm/RESULTS.md for the commands and raw numbers).
+// at which the FMM beats direct summation, one table per kernel (CalibrationOf<Kernel>: the
+// Stokeslet's for every kernel without its own). Measured with perf/fmm/fmm_bench on the
+// development machine (2 threads, AVX-512; see perf/fmm/RESULTS.md for the commands and raw numbers).
+// The functions below take the kernel as a template argument, the Stokeslet by default.
 #include <cstddef>
 
 namespace capsflow::fmm {
+
+struct Stokeslet;
 
 struct CalibrationRow {
   double tolerance;        ///< the row applies to requested tolerances >= this value
@@ -42,33 +46,51 @@ inline constexpr CalibrationRow kCalibration[] = {
     {0.0, 14, 600, 25000},
 };
 
-/// Smallest relative L2 error the Stokeslet FMM reaches reliably in double precision (measured:
-/// worst 7.5e-11 at p = 14); tighter requests get order 14 and this accuracy.
-inline constexpr double accuracy_floor() { return 1e-10; }
+/// A kernel's table (rows from loose to tight) and the smallest relative L2 error its FMM reaches
+/// reliably in double precision (tighter requests get the last row's order and this accuracy).
+struct CalibrationTable {
+  const CalibrationRow* rows;
+  int size;
+  double accuracy_floor;
+};
 
-inline const CalibrationRow& calibration_for(double tolerance) {
-  constexpr int n = sizeof(kCalibration) / sizeof(kCalibration[0]);
-  for (int i = 0; i < n; ++i)
-    if (tolerance >= kCalibration[i].tolerance) return kCalibration[i];
-  return kCalibration[n - 1];
+template <class Kernel>
+struct CalibrationOf {  // the Stokeslet's (measured worst 7.5e-11 at p = 14), used for every kernel
+  static constexpr CalibrationTable table{kCalibration, sizeof(kCalibration) / sizeof(kCalibration[0]), 1e-10};
+};
+
+template <class Kernel = Stokeslet>
+constexpr double accuracy_floor() { return CalibrationOf<Kernel>::table.accuracy_floor; }
+
+template <class Kernel = Stokeslet>
+const CalibrationRow& calibration_for(double tolerance) {
+  constexpr CalibrationTable t = CalibrationOf<Kernel>::table;
+  for (int i = 0; i < t.size; ++i)
+    if (tolerance >= t.rows[i].tolerance) return t.rows[i];
+  return t.rows[t.size - 1];
 }
 
 /// Order p to reach a relative L2 error <= tolerance.
-inline int order_for_tolerance(double tolerance) { return calibration_for(tolerance).order; }
+template <class Kernel = Stokeslet>
+int order_for_tolerance(double tolerance) { return calibration_for<Kernel>(tolerance).order; }
 
 /// Default points per leaf for an order.
-inline int default_leaf_size(int order) {
-  for (const auto& r : kCalibration)
-    if (r.order >= order) return r.leaf_size;
-  return kCalibration[sizeof(kCalibration) / sizeof(kCalibration[0]) - 1].leaf_size;
+template <class Kernel = Stokeslet>
+int default_leaf_size(int order) {
+  constexpr CalibrationTable t = CalibrationOf<Kernel>::table;
+  for (int i = 0; i < t.size; ++i)
+    if (t.rows[i].order >= order) return t.rows[i].leaf_size;
+  return t.rows[t.size - 1].leaf_size;
 }
 
 /// Measured crossover: for n_src·n_trg below crossover², direct_sum is faster than setup +
 /// one evaluation of the FMM at this tolerance. Use for backend = "auto".
-inline std::size_t direct_crossover(double tolerance) { return calibration_for(tolerance).crossover; }
+template <class Kernel = Stokeslet>
+std::size_t direct_crossover(double tolerance) { return calibration_for<Kernel>(tolerance).crossover; }
 
-inline bool prefer_direct(std::size_t n_src, std::size_t n_trg, double tolerance) {
-  const double c = static_cast<double>(direct_crossover(tolerance));
+template <class Kernel = Stokeslet>
+bool prefer_direct(std::size_t n_src, std::size_t n_trg, double tolerance) {
+  const double c = static_cast<double>(direct_crossover<Kernel>(tolerance));
   return static_cast<double>(n_src) * static_cast<double>(n_trg) < c * c;
 }
 

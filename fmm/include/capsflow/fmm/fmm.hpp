@@ -9,8 +9,10 @@
 // Points are xyz-interleaved (x0,y0,z0,x1,...); densities Kernel::src_dim per source, outputs
 // Kernel::trg_dim per target, all in the caller's order; outputs are OVERWRITTEN. The sum is the
 // one of direct_sum (see the kernel header for its conventions; pairs at distance 0 skipped).
+// Kernels with their own equivalent kernels (equivalent.hpp; the Stresslet) run the passes on
+// those: Kernel itself only in P2M, P2L and the direct near field.
 // Accuracy: options.tolerance (relative L2 error against direct summation) is mapped to an
-// order by the committed calibration table (calibration.hpp); options.order > 0 forces p.
+// order by the kernel's committed calibration table (calibration.hpp); options.order > 0 forces p.
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -54,6 +56,8 @@ struct FmmTimings {
 template <class Kernel>
 class Fmm {
  public:
+  using Up = typename Operators<Kernel>::Up;      ///< upward equivalent kernel (equivalent.hpp)
+  using Down = typename Operators<Kernel>::Down;  ///< downward equivalent kernel
   explicit Fmm(const FmmOptions& opt);
   /// Share operators built elsewhere (same kernel); opt.order/tolerance are then ignored.
   Fmm(const FmmOptions& opt, std::shared_ptr<const Operators<Kernel>> ops);
@@ -96,7 +100,9 @@ class Fmm {
   int nd_ = 1;
   std::vector<double> f_;   // nd·src_dim arrays of n_src (density-major, then component)
   std::vector<double> u_;   // nd·trg_dim arrays of n_trg
-  std::vector<double> ue_, cu_, rc_, de_;  // per node nd surface vectors, column (node·nd + d)
+  // per node nd surface vectors, column (node·nd + d): ue_ of the upward equivalent kernel's
+  // src_dim·nsurf, de_ of the downward one's, cu_ / rc_ of trg_dim·nsurf
+  std::vector<double> ue_, cu_, rc_, de_;
   std::vector<char> x_direct_;             // per node: X list evaluated directly
   std::vector<double> sspec_, tspec_;      // M2L spectra of one level (reused)
   std::vector<double> pinv_work_;          // singular coordinates of one level (pinv factors)

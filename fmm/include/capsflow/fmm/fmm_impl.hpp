@@ -6,6 +6,9 @@
 // (column-major, one column per node, nodes level by level):
 //   ue_ upward equivalent density, cu_ upward reference check potential,
 //   rc_ downward reference check potential, de_ downward equivalent density.
+// Kernels: Kernel (the sources' own, "P" below) in P2M, P2L and the direct near field; Up
+// (upward equivalent) in M2M, M2L and M2P; Down (downward equivalent) in L2L and L2P
+// (equivalent.hpp). Check potentials of a box of half-width r are stored times r^{-h_E}.
 // Parallelism: owner computes everywhere (each thread writes only its own nodes' columns or its own
 // leaf's targets); no atomics. Dense operator products are blocked GEMMs over the columns of a level.
 #include <omp.h>
@@ -17,6 +20,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "capsflow/fmm/equivalent.hpp"
 #include "capsflow/fmm/p2p.hpp"
 
 namespace capsflow::fmm {
@@ -62,13 +66,32 @@ inline void apply_pinv(const PinvFactors& pinv, const double* in, std::size_t ld
   par_gemm(pinv.vs, work.data(), r, out, ldout, ncols, false, threads);
 }
 
+/// Density arrays (one per component of E) of one box's equivalent surface (n points), in true
+/// units: a component with a degree shift is stored times rho^shift (equivalent.hpp) and is
+/// rescaled into scratch (E::src_dim·n doubles; unused, may be null, without shifts); the others
+/// point into the stored vector.
+template <class E>
+inline void true_equivalent_density(const double* stored, std::size_t n, double rho, double* scratch,
+                                    const double** f) {
+  for (int b = 0; b < E::src_dim; ++b) {
+    f[b] = stored + b * n;
+    if constexpr (has_degree_shift<E>()) {
+      if (degree_shift<E>(b) == 0) continue;
+      const double a = std::pow(rho, -degree_shift<E>(b));
+      double* sc = scratch + b * n;
+      for (std::size_t k = 0; k < n; ++k) sc[k] = a * f[b][k];
+      f[b] = sc;
+    }
+  }
+}
+
 }  // namespace detail
 
 template <class Kernel>
 Fmm<Kernel>::Fmm(const FmmOptions& opt) : opt_(opt) {
-  const int p = opt.order > 0 ? opt.order : order_for_tolerance(opt.tolerance);
+  const int p = opt.order > 0 ? opt.order : order_for_tolerance<Kernel>(opt.tolerance);
   ops_ = std::make_shared<const Operators<Kernel>>(p, opt.cache_dir);
-  leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size(p);
+  leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size<Kernel>(p);
   threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
   fast_rsqrt_ = !opt.exact_near_field && p <= kFastRsqrtMaxOrder;
 }
@@ -77,7 +100,7 @@ template <class Kernel>
 Fmm<Kernel>::Fmm(const FmmOptions& opt, std::shared_ptr<const Operators<Kernel>> ops)
     : opt_(opt), ops_(std::move(ops)) {
   if (!ops_) throw std::invalid_argument("capsflow::fmm::Fmm: null operators");
-  leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size(ops_->order());
+  leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size<Kernel>(ops_->order());
   threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
   fast_rsqrt_ = !opt.exact_near_field && ops_->order() <= kFastRsqrtMaxOrder;
 }
@@ -89,9 +112,9 @@ void Fmm<Kernel>::setup(const double* src, std::size_t n_src, const double* trg,
   n_trg_ = n_trg;
   tree_.build(src, n_src, trg, n_trg, leaf_size_, threads_);
   const std::size_t nn = tree_.nodes.size(), n = static_cast<std::size_t>(ops_->nsurf());
-  const std::size_t ldu = Kernel::src_dim * n, ldc = Kernel::trg_dim * n;
+  const std::size_t ldu = Up::src_dim * n, ldd = Down::src_dim * n, ldc = Kernel::trg_dim * n;
   ue_.assign(ldu * nn, 0.0);
-  de_.assign(ldu * nn, 0.0);
+  de_.assign(ldd * nn, 0.0);
   cu_.assign(ldc * nn, 0.0);
   rc_.assign(ldc * nn, 0.0);
   x_direct_.assign(nn, 0);
@@ -107,8 +130,8 @@ template <class Kernel>
 int Fmm<Kernel>::group_size(int n_densities) const {
   // densities evaluated together share every pass; the per-node surface vectors (4 arrays)
   // grow with the group, so the group is capped at kMaxSharedDensities and at ~2 GB of them
-  const double per_density = 4.0 * sizeof(double) * Kernel::src_dim * static_cast<double>(ops_->nsurf()) *
-                             static_cast<double>(tree_.nodes.size());
+  const double per_density = sizeof(double) * (Up::src_dim + Down::src_dim + 2.0 * Kernel::trg_dim) *
+                             static_cast<double>(ops_->nsurf()) * static_cast<double>(tree_.nodes.size());
   int g = std::min(n_densities, kMaxSharedDensities);
   while (g > 1 && g * per_density > 2e9) --g;
   return std::max(1, g);
@@ -138,10 +161,10 @@ void Fmm<Kernel>::evaluate_group(const double* density, double* out, int nd) {
   if (n_trg_ == 0 || n_src_ == 0) return;
   nd_ = nd;
   const std::size_t nn = tree_.nodes.size(), n = static_cast<std::size_t>(ops_->nsurf());
-  const std::size_t ldu = SD * n, ldc = TD * n;
+  const std::size_t ldu = Up::src_dim * n, ldd = Down::src_dim * n, ldc = TD * n;
   if (ue_.size() != ldu * nn * nd) {
     ue_.assign(ldu * nn * nd, 0.0);
-    de_.assign(ldu * nn * nd, 0.0);
+    de_.assign(ldd * nn * nd, 0.0);
     cu_.assign(ldc * nn * nd, 0.0);
     rc_.assign(ldc * nn * nd, 0.0);
   }
@@ -176,7 +199,7 @@ void Fmm<Kernel>::upward() {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   const Operators<Kernel>& op = *ops_;
   const int n = op.nsurf(), nd = nd_;
-  const std::size_t ldu = SD * n, ldc = TD * n;
+  const std::size_t ldu = Up::src_dim * n, ldc = TD * n;
   const Tree& T = tree_;
   const int L = T.levels();
   std::fill(cu_.begin(), cu_.end(), 0.0);
@@ -184,9 +207,9 @@ void Fmm<Kernel>::upward() {
   for (int l = L - 1; l >= 2; --l) {
     const std::size_t lb = T.level_begin[l], le = T.level_begin[l + 1];
     double t = detail::wall_now();
-    // P2M: leaf sources -> upward check surface (2.95 r), reference-scaled by r^{-h}
+    // P2M: leaf sources -> upward check surface (2.95 r), reference-scaled by r^{-h_E}
     const double r = Tree::half_width(l);
-    const double sc = Kernel::scale() * std::pow(r, -Kernel::homogeneity);
+    const double sc = Kernel::scale() * std::pow(r, -Up::homogeneity);
 #pragma omp parallel num_threads(threads_)
     {
       std::vector<double> px(n), py(n), pz(n);
@@ -237,11 +260,11 @@ void Fmm<Kernel>::upward() {
 
 template <class Kernel>
 void Fmm<Kernel>::downward_checks() {
-  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim, SU = Up::src_dim;
   const Operators<Kernel>& op = *ops_;
   const M2lFft& fft = op.m2l();
   const int n = op.nsurf(), nd = nd_;
-  const std::size_t ldu = SD * n, ldc = TD * n;
+  const std::size_t ldu = SU * n, ldc = TD * n;
   const Tree& T = tree_;
   const int L = T.levels();
   std::fill(rc_.begin(), rc_.end(), 0.0);
@@ -295,7 +318,7 @@ void Fmm<Kernel>::downward_checks() {
       const std::size_t j0 = static_cast<std::size_t>(std::lower_bound(vb.begin(), vb.end() - 1, w0) - vb.begin());
       const std::size_t j1 = me + 1 == nth ? trgs.size()
           : static_cast<std::size_t>(std::lower_bound(vb.begin(), vb.end() - 1, w1) - vb.begin());
-      const std::size_t sblk = static_cast<std::size_t>(SD) * 2 * CH * nvs;
+      const std::size_t sblk = static_cast<std::size_t>(SU) * 2 * CH * nvs;
       const std::size_t tblk = static_cast<std::size_t>(TD) * 2 * CH * nvt;
       for (int c = 0; c < fft.nchunk(); ++c)
         std::fill(tspec + c * tblk + j0 * nd * TD * 2 * CH, tspec + c * tblk + j1 * nd * TD * 2 * CH, 0.0);
@@ -318,7 +341,7 @@ void Fmm<Kernel>::downward_checks() {
       for (int c = 0; c < fft.nchunk(); ++c)
         for (int o = 0; o < kNumVOffsets; ++o)
           if (ob[o + 1] > ob[o])
-            fft.template hadamard_pairs<TD, SD>(c, o, pairs.data() + 2 * ob[o], ob[o + 1] - ob[o],
+            fft.template hadamard_pairs<TD, SU>(c, o, pairs.data() + 2 * ob[o], ob[o + 1] - ob[o],
                                                 sspec + c * sblk, tspec + c * tblk);
       const double tf2 = detail::wall_now();
       for (std::size_t jv = j0 * nd; jv < j1 * nd; jv += G) {
@@ -334,7 +357,7 @@ void Fmm<Kernel>::downward_checks() {
     }
   }
   t_.m2l += detail::wall_now() - t;
-  // X list by P2L: sources of A -> downward check surface (1.05 r) of B, reference-scaled
+  // X list by P2L: sources of A -> downward check surface (1.05 r) of B, reference-scaled by r^{-h_E}
   t = detail::wall_now();
 #pragma omp parallel num_threads(threads_)
   {
@@ -356,7 +379,7 @@ void Fmm<Kernel>::downward_checks() {
         for (int k = 0; k < SD * nd; ++k) f[k] = f_.data() + k * n_src_ + A.sb;
         p2p_multi<Kernel, 2, false>(nd, px.data(), py.data(), pz.data(), n, T.sx.data() + A.sb,
                                     T.sy.data() + A.sb, T.sz.data() + A.sb, f.data(), A.nsrc(), u.data(),
-                                    Kernel::scale() * std::pow(r, -Kernel::homogeneity));
+                                    Kernel::scale() * std::pow(r, -Up::homogeneity));
       }
     }
   }
@@ -365,10 +388,10 @@ void Fmm<Kernel>::downward_checks() {
 
 template <class Kernel>
 void Fmm<Kernel>::downward() {
-  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  constexpr int TD = Kernel::trg_dim;
   const Operators<Kernel>& op = *ops_;
   const int n = op.nsurf(), nd = nd_;
-  const std::size_t ldu = SD * n, ldc = TD * n;
+  const std::size_t ldd = Down::src_dim * n, ldc = TD * n;
   const Tree& T = tree_;
   const int L = T.levels();
   const double t = detail::wall_now();
@@ -381,10 +404,10 @@ void Fmm<Kernel>::downward() {
           if (T.nodes[c].octant == o && T.nodes[c].ntrg() > 0) kids.push_back(static_cast<int>(c));
         if (kids.empty()) continue;
         const std::size_t nk = kids.size() * nd;
-        std::vector<double> X(ldu * nk), Y(ldc * nk);
+        std::vector<double> X(ldd * nk), Y(ldc * nk);
         for (std::size_t j = 0; j < kids.size(); ++j)
-          std::copy_n(de_.data() + T.nodes[kids[j]].parent * nd * ldu, nd * ldu, X.data() + j * nd * ldu);
-        detail::par_gemm(op.l2l(o), X.data(), ldu, Y.data(), ldc, nk, false, threads_);
+          std::copy_n(de_.data() + T.nodes[kids[j]].parent * nd * ldd, nd * ldd, X.data() + j * nd * ldd);
+        detail::par_gemm(op.l2l(o), X.data(), ldd, Y.data(), ldc, nk, false, threads_);
         for (std::size_t j = 0; j < kids.size(); ++j) {
           double* dst = rc_.data() + kids[j] * nd * ldc;
           const double* s = Y.data() + j * nd * ldc;
@@ -392,7 +415,7 @@ void Fmm<Kernel>::downward() {
         }
       }
     }
-    detail::apply_pinv(op.dc2de(), rc_.data() + lb * nd * ldc, ldc, de_.data() + lb * nd * ldu, ldu,
+    detail::apply_pinv(op.dc2de(), rc_.data() + lb * nd * ldc, ldc, de_.data() + lb * nd * ldd, ldd,
                        (le - lb) * nd, pinv_work_, threads_);
   }
   t_.l2l += detail::wall_now() - t;
@@ -400,17 +423,18 @@ void Fmm<Kernel>::downward() {
 
 template <class Kernel>
 void Fmm<Kernel>::near_field() {
-  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim, SU = Up::src_dim;
   const Operators<Kernel>& op = *ops_;
   const int n = op.nsurf(), nd = nd_;
-  const std::size_t ldu = SD * n;
+  const std::size_t ldu = SU * n;
   const Tree& T = tree_;
   const double t = detail::wall_now();
   const auto& leaves = T.leaves;
 #pragma omp parallel num_threads(threads_)
   {
     std::vector<double> px(n), py(n), pz(n);
-    std::vector<const double*> f(SD * nd);
+    std::vector<const double*> f(std::max(SD, SU) * nd);
+    std::vector<double> scaled(has_degree_shift<Up>() ? ldu * nd : 0);
     std::vector<double*> u(TD * nd);
 #pragma omp for schedule(dynamic, 1)
     for (long li = 0; li < static_cast<long>(leaves.size()); ++li) {
@@ -443,9 +467,11 @@ void Fmm<Kernel>::near_field() {
         T.center(d, c);
         op.surface().place(c, kRadInner * Tree::half_width(D.level), px.data(), py.data(), pz.data());
         for (int e = 0; e < nd; ++e)
-          for (int k = 0; k < SD; ++k) f[e * SD + k] = ue_.data() + (static_cast<std::size_t>(d) * nd + e) * ldu + k * n;
-        p2p_multi<Kernel, 2, false>(nd, tx, ty, tz, B.ntrg(), px.data(), py.data(), pz.data(), f.data(), n,
-                                    u.data(), Kernel::scale());
+          detail::true_equivalent_density<Up>(ue_.data() + (static_cast<std::size_t>(d) * nd + e) * ldu, n,
+                                              Tree::half_width(D.level), scaled.empty() ? nullptr : scaled.data() + e * ldu,
+                                              f.data() + e * SU);
+        p2p_multi<Up, 2, false>(nd, tx, ty, tz, B.ntrg(), px.data(), py.data(), pz.data(), f.data(), n,
+                                u.data(), Up::scale());
       }
       for (int a = b; a >= 0; a = T.nodes[a].parent)
         if (x_direct_[a])
@@ -457,17 +483,18 @@ void Fmm<Kernel>::near_field() {
 
 template <class Kernel>
 void Fmm<Kernel>::local_to_targets() {
-  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  constexpr int SDn = Down::src_dim, TD = Kernel::trg_dim;
   const Operators<Kernel>& op = *ops_;
   const int n = op.nsurf(), nd = nd_;
-  const std::size_t ldu = SD * n;
+  const std::size_t ldd = SDn * n;
   const Tree& T = tree_;
   const double t = detail::wall_now();
   const auto& leaves = T.leaves;
 #pragma omp parallel num_threads(threads_)
   {
     std::vector<double> px(n), py(n), pz(n);
-    std::vector<const double*> f(SD * nd);
+    std::vector<const double*> f(SDn * nd);
+    std::vector<double> scaled(has_degree_shift<Down>() ? ldd * nd : 0);
     std::vector<double*> u(TD * nd);
 #pragma omp for schedule(dynamic, 2)
     for (long li = 0; li < static_cast<long>(leaves.size()); ++li) {
@@ -478,10 +505,12 @@ void Fmm<Kernel>::local_to_targets() {
       T.center(b, c);
       op.surface().place(c, kRadOuter * Tree::half_width(B.level), px.data(), py.data(), pz.data());
       for (int e = 0; e < nd; ++e)
-        for (int k = 0; k < SD; ++k) f[e * SD + k] = de_.data() + (static_cast<std::size_t>(b) * nd + e) * ldu + k * n;
+        detail::true_equivalent_density<Down>(de_.data() + (static_cast<std::size_t>(b) * nd + e) * ldd, n,
+                                              Tree::half_width(B.level), scaled.empty() ? nullptr : scaled.data() + e * ldd,
+                                              f.data() + e * SDn);
       for (int k = 0; k < TD * nd; ++k) u[k] = u_.data() + k * n_trg_ + B.tb;
-      p2p_multi<Kernel, 2, false>(nd, T.tx.data() + B.tb, T.ty.data() + B.tb, T.tz.data() + B.tb, B.ntrg(),
-                                  px.data(), py.data(), pz.data(), f.data(), n, u.data(), Kernel::scale());
+      p2p_multi<Down, 2, false>(nd, T.tx.data() + B.tb, T.ty.data() + B.tb, T.tz.data() + B.tb, B.ntrg(),
+                                px.data(), py.data(), pz.data(), f.data(), n, u.data(), Down::scale());
     }
   }
   t_.l2p += detail::wall_now() - t;

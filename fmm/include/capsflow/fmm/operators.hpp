@@ -1,6 +1,8 @@
 #pragma once
 // capsflow::fmm::Operators<Kernel> — the translation operators of the KIFMM, one object per
 // (kernel, order). Lifetime: built once, loaded from / saved to the disk cache.
+// They are those of the kernel's equivalent kernels (equivalent.hpp): E_up for uc2ue, m2m and the
+// M2L spectra, E_down for dc2de and l2l (both the kernel itself for the Stokeslet).
 //
 // Scale invariance (kernel homogeneous of degree h): everything is built for a reference box of
 // half-width 1. Vectors are component-major: entry (c, k) of a surface vector is at c*n + k.
@@ -8,7 +10,8 @@
 //   dc2de : pseudo-inverse of K(DC@1.05 <- DE@2.95)
 //           both stored and applied as two SVD factors (PinvFactors: why)
 //   m2m[o]: K(parent UC@2.95 <- child-o UE)   (child half-width 1/2, centre at ±1/2) — the
-//           parent UE is then uc2ue · Σ_o m2m[o]·UE_child (level-independent).
+//           parent UE is then uc2ue · Σ_o m2m[o]·UE_child (level-independent); the column of a
+//           density component with its own degree (equivalent.hpp) carries 2^{degree_shift}.
 //   l2l[o]: 0.5^{-h} K(child-o DC <- parent DE@2.95) — added to the child's reference check
 //           potential, which dc2de then turns into the child's DE.
 // A level-l box of half-width r has K_l = r^h K_ref, so P2M and P2L multiply check potentials
@@ -26,6 +29,7 @@
 #include <string>
 
 #include "capsflow/fmm/cache.hpp"
+#include "capsflow/fmm/equivalent.hpp"
 #include "capsflow/fmm/m2l_fft.hpp"
 #include "capsflow/fmm/surface.hpp"
 
@@ -90,6 +94,12 @@ inline PinvFactors regularised_pinv_factors(const Eigen::MatrixXd& K, double rel
 template <class Kernel>
 class Operators {
  public:
+  using Up = typename UpwardEquivalentOf<Kernel>::type;
+  using Down = typename DownwardEquivalentOf<Kernel>::type;
+  static_assert(Up::trg_dim == Kernel::trg_dim && Down::trg_dim == Kernel::trg_dim,
+                "equivalent kernels must produce the kernel's target components");
+  static_assert(Up::homogeneity == Down::homogeneity, "check potentials share one reference scaling");
+
   /// Build or load the operators of order p. cache_dir "" => resolve_cache_dir("") (env vars);
   /// if no directory can be resolved or written, the operators are built and not saved.
   Operators(int p, const std::string& cache_dir) : surf_(p), m2l_(surf_) {
@@ -99,15 +109,17 @@ class Operators {
     std::snprintf(key, sizeof key, "kernel=%s order=%d nsurf=%d src=%d trg=%d rin=%.17g rout=%.17g reg=%.3g prec=f64",
                   Kernel::name, p, n, Kernel::src_dim, Kernel::trg_dim, kRadInner, kRadOuter, pinv_rel_tol(p));
     key_ = std::string(key) + " pinv=factored";
+    if constexpr (has_own_equivalents<Kernel>)
+      key_ += std::string(" up=") + Up::name + " down=" + Down::name;
     if (!dir.empty()) path_ = dir + "/" + Kernel::name + "_p" + std::to_string(p) + "_f64.bin";
     std::vector<Eigen::MatrixXd> mats;
-    const int SD = Kernel::src_dim, TD = Kernel::trg_dim;
-    auto factor_ok = [&](const Eigen::MatrixXd& vs, const Eigen::MatrixXd& ut) {
+    const int TD = Kernel::trg_dim;
+    auto factor_ok = [&](const Eigen::MatrixXd& vs, const Eigen::MatrixXd& ut, int SD) {
       return vs.rows() == SD * n && ut.cols() == TD * n && vs.cols() == ut.rows() && vs.cols() >= 1 &&
              vs.cols() <= std::min(SD, TD) * n;
     };
     if (!path_.empty() && load_operator_cache(path_, key_, mats) && mats.size() == 4 &&
-        factor_ok(mats[0], mats[1]) && factor_ok(mats[2], mats[3])) {
+        factor_ok(mats[0], mats[1], Up::src_dim) && factor_ok(mats[2], mats[3], Down::src_dim)) {
       uc2ue_.vs = std::move(mats[0]);
       uc2ue_.ut = std::move(mats[1]);
       dc2de_.vs = std::move(mats[2]);
@@ -119,7 +131,7 @@ class Operators {
         saved_ = save_operator_cache(path_, key_, {uc2ue_.vs, uc2ue_.ut, dc2de_.vs, dc2de_.ut});
     }
     build_translations();
-    m2l_.template precompute<Kernel>();
+    m2l_.template precompute<Up>();
   }
 
   int order() const { return surf_.p; }
@@ -141,25 +153,31 @@ class Operators {
     for (std::size_t i = 0; i < v.size(); ++i) o[i] = shift + a * v[i];
     return o;
   }
+  template <class K>
   Eigen::MatrixXd kmat(double rt, const double ct[3], double rs, const double cs[3]) const {
     const auto tx = scaled(surf_.x, rt, ct[0]), ty = scaled(surf_.y, rt, ct[1]), tz = scaled(surf_.z, rt, ct[2]);
     const auto sx = scaled(surf_.x, rs, cs[0]), sy = scaled(surf_.y, rs, cs[1]), sz = scaled(surf_.z, rs, cs[2]);
-    return kernel_matrix<Kernel>(tx.data(), ty.data(), tz.data(), surf_.n, sx.data(), sy.data(),
-                                 sz.data(), surf_.n);
+    return kernel_matrix<K>(tx.data(), ty.data(), tz.data(), surf_.n, sx.data(), sy.data(), sz.data(), surf_.n);
   }
   void build_pinvs() {
     const double c0[3] = {0, 0, 0};
     const double rel = pinv_rel_tol(surf_.p);
-    uc2ue_ = regularised_pinv_factors(kmat(kRadOuter, c0, kRadInner, c0), rel);
-    dc2de_ = regularised_pinv_factors(kmat(kRadInner, c0, kRadOuter, c0), rel);
+    uc2ue_ = regularised_pinv_factors(kmat<Up>(kRadOuter, c0, kRadInner, c0), rel);
+    dc2de_ = regularised_pinv_factors(kmat<Down>(kRadInner, c0, kRadOuter, c0), rel);
   }
   void build_translations() {
     const double c0[3] = {0, 0, 0};
-    const double child_scale = std::pow(0.5, -Kernel::homogeneity);
+    const double child_scale = std::pow(0.5, -Down::homogeneity);
+    const int n = surf_.n;
     for (int o = 0; o < 8; ++o) {
       const double cc[3] = {(o & 1) ? 0.5 : -0.5, (o & 2) ? 0.5 : -0.5, (o & 4) ? 0.5 : -0.5};
-      m2m_[o] = kmat(kRadOuter, c0, 0.5 * kRadInner, cc);
-      l2l_[o] = child_scale * kmat(0.5 * kRadInner, cc, kRadOuter, c0);
+      m2m_[o] = kmat<Up>(kRadOuter, c0, 0.5 * kRadInner, cc);
+      // the child stores a shifted component scaled by its own half-width, the parent's check by
+      // the parent's: a factor (ρ_parent/ρ_child)^shift = 2^shift (docs/fmm.md §3.10)
+      if constexpr (has_degree_shift<Up>())
+        for (int b = 0; b < Up::src_dim; ++b)
+          if (degree_shift<Up>(b) != 0) m2m_[o].middleCols(b * n, n) *= std::pow(2.0, degree_shift<Up>(b));
+      l2l_[o] = child_scale * kmat<Down>(0.5 * kRadInner, cc, kRadOuter, c0);
     }
   }
 
