@@ -1,8 +1,9 @@
 // fmm_bench — time and accuracy of capsflow's KIFMM against its own direct summation.
 //
 //   fmm_bench --dist sphere|spheroid|cube|clustered --n 100000 [--ntrg M] [--tol 1e-6 | --order p]
-//             [--leaf L] [--threads T] [--reps 3] [--sample 1000] [--kernel stokeslet|laplace]
-//             [--cache-dir DIR] [--seed S] [--densities K]
+//             [--leaf L] [--threads T] [--reps 3] [--sample 1000]
+//             [--kernel stokeslet|stresslet|laplace[,...]] [--cache-dir DIR] [--seed S] [--densities K]
+//             [--density random|surface]
 //   fmm_bench --input points.txt [--output velocities.txt] [--tol ..] ...
 //
 // Prints one JSON line per run with: dist, n (sources), ntrg, tol, order, leaf, threads,
@@ -17,9 +18,15 @@
 // calls, multi_speedup = eval_seq_s / eval_s, multi_vs_single = relative L2 difference between
 // the two results (all densities); errors are those of density 0.
 //
+// --kernel a,b,...: the kernels one after the other in one process on the same points (one JSON
+// line each), for ratios measured side by side (perf/fmm/stresslet_bench.sh). The stresslet's
+// density is 6 random components per source (f then n, stresslet.hpp); --density surface (the
+// stresslet on --dist sphere|spheroid) gives it a smooth double layer instead, n the outward
+// normal and f = w·u(y) (tests/fmm/points.hpp, surface_double_layer), as the boundary integral uses it.
+//
 // File format of --input (text): first line "n_src n_trg"; then n_src lines "x y z f1 f2 f3"
-// (one density value per component of the kernel); then n_trg lines "x y z". n_trg = 0 means
-// targets = sources. --output writes n_trg lines "u1 u2 u3" (%.17g), in input order.
+// (one density value per component of the kernel: 6 for the stresslet); then n_trg lines "x y z".
+// n_trg = 0 means targets = sources. --output writes n_trg lines "u1 u2 u3" (%.17g), in input order.
 #include <omp.h>
 
 #include <algorithm>
@@ -35,6 +42,7 @@
 #include "capsflow/fmm/fmm.hpp"
 #include "capsflow/fmm/laplace.hpp"
 #include "capsflow/fmm/stokeslet.hpp"
+#include "capsflow/fmm/stresslet.hpp"
 #include "points.hpp"
 
 using namespace capsflow::fmm;
@@ -46,7 +54,7 @@ double median(std::vector<double> v) {
   return v.empty() ? 0 : v[v.size() / 2];
 }
 struct Args {
-  std::string dist = "sphere", kernel = "stokeslet", input, output, cache_dir;
+  std::string dist = "sphere", kernel = "stokeslet", input, output, cache_dir, density = "random";
   std::size_t n = 10000, ntrg = 0;
   double tol = 1e-6;
   int order = 0, leaf = 0, threads = 0, reps = 3, sample = 1000, densities = 1;
@@ -73,6 +81,16 @@ int run(const Args& a) {
   } else {
     src = capsflow::fmm::testing::make_points(a.dist, a.n, a.seed);
     f = capsflow::fmm::testing::random_density(SD * a.n * std::max(1, a.densities), a.seed + 1);
+    if (a.density == "surface") {
+      if (SD != 6 || (a.dist != "sphere" && a.dist != "spheroid") || a.densities > 1) {
+        std::fprintf(stderr, "fmm_bench: --density surface needs the stresslet, one density, --dist sphere|spheroid\n");
+        return 2;
+      }
+      f = capsflow::fmm::testing::surface_double_layer(a.dist, src);
+    } else if (a.density != "random") {
+      std::fprintf(stderr, "fmm_bench: unknown --density %s\n", a.density.c_str());
+      return 2;
+    }
     if (a.ntrg > 0) { trg = capsflow::fmm::testing::make_points(a.dist, a.ntrg, a.seed + 2); same = false; }
   }
   if (same) trg = src;
@@ -137,14 +155,14 @@ int run(const Args& a) {
     maxref = std::max(maxref, std::abs(ref[i]));
   }
   const double direct_s = m ? direct_sample * static_cast<double>(nt) / static_cast<double>(m) : 0;
-  std::printf("{\"what\":\"fmm\",\"kernel\":\"%s\",\"dist\":\"%s\",\"n\":%zu,\"ntrg\":%zu,\"same\":%s,"
+  std::printf("{\"what\":\"fmm\",\"kernel\":\"%s\",\"density\":\"%s\",\"dist\":\"%s\",\"n\":%zu,\"ntrg\":%zu,\"same\":%s,"
               "\"tol\":%g,\"order\":%d,\"leaf\":%d,\"threads\":%d,\"setup_s\":%.4f,\"eval_s\":%.4f,"
               "\"rel_l2_error\":%.3e,\"max_rel_error\":%.3e,\"direct_s\":%.4f,\"direct_pairs_per_s\":%.3e,"
               "\"ops_s\":%.3f,\"ops_cached\":%s,\"levels\":%d,\"nv\":%zu,\"nodes\":%zu,\"leaves\":%zu,"
               "\"phases\":{\"p2p\":%.4f,\"m2l\":%.4f,\"p2m\":%.4f,\"m2m\":%.4f,\"l2l\":%.4f,\"l2p\":%.4f,\"x\":%.4f,\"other\":%.4f,\"m2l_fft\":%.4f,\"m2l_hadamard\":%.4f},"
               "\"densities\":%d,\"eval_seq_s\":%.4f,\"multi_speedup\":%.3f,\"multi_vs_single\":%.2e,"
               "\"isa\":\"%s\"}\n",
-              Kernel::name, a.input.empty() ? a.dist.c_str() : "file", ns, nt, same ? "true" : "false",
+              Kernel::name, a.input.empty() ? a.density.c_str() : "file", a.input.empty() ? a.dist.c_str() : "file", ns, nt, same ? "true" : "false",
               a.tol, fmm.order(), fmm.leaf_size(), fmm.threads(), median(setup_t), median(eval_t),
               den > 0 ? std::sqrt(num / den) : 0.0, maxref > 0 ? maxerr / maxref : 0.0, direct_s,
               direct_sample > 0 ? static_cast<double>(ns) * m / direct_sample : 0.0, ops_s,
@@ -181,13 +199,23 @@ int main(int argc, char** argv) {
     else if (k == "--output") a.output = val();
     else if (k == "--cache-dir") a.cache_dir = val();
     else if (k == "--densities") a.densities = std::stoi(val());
+    else if (k == "--density") a.density = val();
     else if (k == "-h" || k == "--help") {
       std::printf("see the header of perf/fmm/fmm_bench.cpp\n");
       return 0;
     } else { std::fprintf(stderr, "fmm_bench: unknown option %s\n", k.c_str()); return 2; }
   }
-  if (a.kernel == "laplace") return run<Laplace>(a);
-  if (a.kernel == "stokeslet") return run<Stokeslet>(a);
-  std::fprintf(stderr, "fmm_bench: unknown kernel %s\n", a.kernel.c_str());
-  return 2;
+  std::size_t at = 0;
+  for (;;) {
+    const std::size_t comma = a.kernel.find(',', at);
+    const std::string k = a.kernel.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+    int rc = 2;
+    if (k == "laplace") rc = run<Laplace>(a);
+    else if (k == "stokeslet") rc = run<Stokeslet>(a);
+    else if (k == "stresslet") rc = run<Stresslet>(a);
+    else std::fprintf(stderr, "fmm_bench: unknown kernel %s\n", k.c_str());
+    if (rc != 0) return rc;
+    if (comma == std::string::npos) return 0;
+    at = comma + 1;
+  }
 }

@@ -1,6 +1,7 @@
 #pragma once
-// Test point distributions (sphere surface, spheroid a/b = 1.4 surface, uniform cube, clustered)
-// and error metrics shared by the fmm tests.
+// Test point distributions (sphere surface, spheroid a/b = 1.4 surface, uniform cube, clustered),
+// densities (random; a smooth double layer on the sphere or spheroid) and error metrics shared by
+// the fmm tests and perf/fmm.
 #include <cmath>
 #include <random>
 #include <string>
@@ -42,6 +43,35 @@ inline std::vector<double> random_density(std::size_t n, unsigned seed) {
   std::vector<double> f(n);
   for (auto& v : f) v = nd(g);
   return f;
+}
+
+/// The density of a surface double layer on the points of make_points("sphere" or "spheroid"):
+/// per point f = w·u(y) and n = the outward unit normal (stresslet.hpp's 6 components), with
+/// w = area/N (the equal-area weight on the sphere; of the right size on the spheroid, whose
+/// points are not uniform) and a smooth velocity u = (y0·y1, sin 2y2, y0 − y2²). The
+/// boundary integral's use of the stresslet: the sum carries the cancellations of a closed surface
+/// (for constant u it is u inside, 0 outside), unlike random densities.
+inline std::vector<double> surface_double_layer(const std::string& dist, const std::vector<double>& p) {
+  const std::size_t n = p.size() / 3;
+  const bool spheroid = dist == "spheroid";
+  const double b = std::cbrt(1.0 / 1.4), a = 1.4 * b;
+  // area of the sphere, or of the prolate spheroid (semi-axes b, b, a; e = eccentricity)
+  const double e = std::sqrt(1 - b * b / (a * a));
+  const double pi = 3.14159265358979323846;
+  const double area = spheroid ? 2 * pi * b * b * (1 + a / (b * e) * std::asin(e)) : 4 * pi;
+  std::vector<double> d(6 * n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double* y = &p[3 * j];
+    double nv[3] = {y[0], y[1], y[2]};
+    if (spheroid) { nv[0] /= b * b; nv[1] /= b * b; nv[2] /= a * a; }
+    const double len = std::sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+    const double u[3] = {y[0] * y[1], std::sin(2 * y[2]), y[0] - y[2] * y[2]};
+    for (int k = 0; k < 3; ++k) {
+      d[6 * j + k] = area / static_cast<double>(n) * u[k];
+      d[6 * j + 3 + k] = nv[k] / len;
+    }
+  }
+  return d;
 }
 
 inline double rel_l2(const std::vector<double>& a, const std::vector<double>& ref) {

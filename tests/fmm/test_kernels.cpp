@@ -1,5 +1,6 @@
-// Kernel conventions (Stokeslet, Laplace), the SIMD pair kernel against the scalar reference, and
-// the public direct_sum (overwrite semantics, sources != targets, empty inputs).
+// Kernel conventions (Stokeslet, stresslet, Laplace, and the stresslet FMM's StokesletSource), the
+// SIMD pair kernel against the scalar reference, and the public direct_sum (overwrite semantics,
+// sources != targets, empty inputs).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,8 @@
 #include "capsflow/fmm/direct_sum_mixed.hpp"
 #include "capsflow/fmm/laplace.hpp"
 #include "capsflow/fmm/stokeslet.hpp"
+#include "capsflow/fmm/stokeslet_source.hpp"
+#include "capsflow/fmm/stresslet.hpp"
 
 using namespace capsflow::fmm;
 namespace {
@@ -76,6 +79,122 @@ TEST(StokesletConvention, SelfPairSkippedAndOutputOverwritten) {
   EXPECT_NEAR(u[2], (2.0 / 3) / (8 * kPi), 1e-15);
 }
 
+TEST(StressletConvention, ClosedFormValues) {
+  // u_i = (1/8π) T_ijk f_j n_k, T_ijk = −6 r_i r_j r_k/|r|^5, r = x − y.
+  // r = (1,2,2), |r| = 3, f = e1, n = e2: (r·f)(r·n) = 2, so u = −6·2·(1,2,2)/(243·8π).
+  const double src[3] = {0, 0, 0}, d[6] = {1, 0, 0, 0, 1, 0}, trg[3] = {1, 2, 2};
+  double u[3];
+  direct_sum<Stresslet>(src, 1, d, trg, 1, u);
+  const double s = -12.0 / (243 * 8 * kPi);
+  EXPECT_NEAR(u[0], s * 1, 1e-16);  // exact rational values; 1e-16 = rounding of |u| ~ 6e-3
+  EXPECT_NEAR(u[1], s * 2, 1e-16);
+  EXPECT_NEAR(u[2], s * 2, 1e-16);
+  // f = n = e3 on the axis, r = (0,0,2): (r·f)(r·n) r/|r|^5 = 4·2/32 e3, u = −1.5/(8π) e3;
+  // at r = (2,0,0) r·f = 0: no velocity
+  const double d3[6] = {0, 0, 1, 0, 0, 1}, trg2[6] = {0, 0, 2, 2, 0, 0};
+  double u2[6];
+  direct_sum<Stresslet>(src, 1, d3, trg2, 2, u2);
+  EXPECT_NEAR(u2[2], -1.5 / (8 * kPi), 1e-15);
+  for (int k : {0, 1, 3, 4, 5}) EXPECT_EQ(u2[k], 0.0);  // exact zeros (products with 0)
+  // the split agreed with src/bie's double layer: scale() = 1/(8π) (the Stokeslet's), the −6 in
+  // eval(); the values above pin the product
+  EXPECT_DOUBLE_EQ(Stresslet::scale(), 1.0 / (8 * kPi));
+}
+
+TEST(StressletConvention, DegreeMinusTwoAndSymmetricInFAndN) {
+  const double src[3] = {0.1, -0.3, 0.2}, d[6] = {0.3, -1.2, 0.7, 0.5, 0.4, -0.9};
+  const double dswap[6] = {d[3], d[4], d[5], d[0], d[1], d[2]};
+  const double trg[3] = {1.1, 0.4, -0.6};
+  double trg10[3], src10[3];
+  for (int k = 0; k < 3; ++k) { trg10[k] = 10 * trg[k]; src10[k] = 10 * src[k]; }
+  double u[3], u10[3], usw[3];
+  direct_sum<Stresslet>(src, 1, d, trg, 1, u);
+  direct_sum<Stresslet>(src10, 1, d, trg10, 1, u10);
+  direct_sum<Stresslet>(src, 1, dswap, trg, 1, usw);
+  EXPECT_EQ(Stresslet::homogeneity, -2);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(u10[k], u[k] / 100, 1e-15 * std::abs(u[k]));  // T(10 r) = T(r)/100; rounding
+    EXPECT_NEAR(usw[k], u[k], 1e-15 * std::abs(u[k]));        // T_ijk symmetric in j, k; rounding
+  }
+}
+
+TEST(StressletConvention, SelfPairSkippedAndOutputOverwritten) {
+  const double src[6] = {0, 0, 0, 0, 0, 3}, d[12] = {5, 5, 5, 5, 5, 5, 0, 0, 1, 0, 0, 1};
+  const double trg[3] = {0, 0, 0};
+  double u[3] = {123, 456, 789};  // garbage must be overwritten
+  direct_sum<Stresslet>(src, 2, d, trg, 1, u);
+  // only the second source: r = (0,0,−3), f = n = e3: 9·(−3)/243 e3 = −e3/9, times −6/(8π)
+  EXPECT_EQ(u[0], 0.0);
+  EXPECT_EQ(u[1], 0.0);
+  EXPECT_NEAR(u[2], (6.0 / 9) / (8 * kPi), 1e-15);
+}
+
+TEST(StressletConvention, ClosedSurfaceIdentity) {
+  // The double layer of a constant c over a closed surface with outward normal n: with this
+  // sign convention (r = x − y) u = c inside and 0 outside. (At the centre of a sphere of radius
+  // R, n = −r/R and T_ijk c_j n_k = 6 r_i (r·c)/R^4, whose integral is 6·(4π/3)·c = 8π c.)
+  // Sphere of radius 0.8 about (0.2, −0.1, 0.3): Gauss–Legendre in cos θ (48 nodes) times the
+  // trapezoidal rule in φ (96 nodes), spectrally accurate for targets off the surface.
+  const double R = 0.8, ctr[3] = {0.2, -0.1, 0.3}, c[3] = {0.7, -1.1, 0.4};
+  const int nt = 48, np = 96;
+  // Gauss–Legendre nodes and weights by Newton on P_nt
+  std::vector<double> xg(nt), wg(nt);
+  for (int i = 0; i < nt; ++i) {
+    double x = std::cos(kPi * (i + 0.75) / (nt + 0.5)), dp = 0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1, p1 = x;
+      for (int k = 2; k <= nt; ++k) { const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k; p0 = p1; p1 = p2; }
+      dp = nt * (x * p1 - p0) / (x * x - 1);
+      const double dx = p1 / dp;
+      x -= dx;
+      if (std::abs(dx) < 1e-16) break;
+    }
+    xg[i] = x;
+    wg[i] = 2 / ((1 - x * x) * dp * dp);
+  }
+  std::vector<double> src, den;
+  for (int i = 0; i < nt; ++i)
+    for (int j = 0; j < np; ++j) {
+      const double ct = xg[i], st = std::sqrt(1 - ct * ct), ph = 2 * kPi * j / np;
+      const double n[3] = {st * std::cos(ph), st * std::sin(ph), ct};
+      const double w = R * R * wg[i] * 2 * kPi / np;
+      for (int k = 0; k < 3; ++k) src.push_back(ctr[k] + R * n[k]);
+      for (int k = 0; k < 3; ++k) den.push_back(w * c[k]);
+      for (int k = 0; k < 3; ++k) den.push_back(n[k]);
+    }
+  // inside: centre and a point 0.5 R off it; outside: 1.6 R and 3 R from the centre
+  const double trg[12] = {ctr[0], ctr[1], ctr[2], ctr[0] + 0.3 * R, ctr[1] - 0.4 * R, ctr[2],
+                          ctr[0], ctr[1] + 1.6 * R, ctr[2], ctr[0] - 2 * R, ctr[1] + 2 * R, ctr[2] + R};
+  double u[12];
+  direct_sum<Stresslet>(src.data(), src.size() / 3, den.data(), trg, 4, u);
+  // 1e-12: the rule's error for these targets falls geometrically with the nodes (an
+  // independent numpy check: 1.4e-6 with 16 × 32 nodes, 1.2e-9 with 24 × 48, 4e-15 = rounding of
+  // the 4608 terms with 48 × 96); a wrong sign or factor gives O(1)
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(u[k], c[k], 1e-12) << "centre";
+    EXPECT_NEAR(u[3 + k], c[k], 1e-12) << "inside";
+    EXPECT_NEAR(u[6 + k], 0.0, 1e-12) << "outside";
+    EXPECT_NEAR(u[9 + k], 0.0, 1e-12) << "far outside";
+  }
+}
+
+TEST(StokesletSourceConvention, StokesletPlusPointSource) {
+  // u = (1/8π)(G f + q r/|r|^3): the force part equals the Stokeslet's, the source part is radial
+  // with flux 4π q/(8π) = q/2 through any sphere about the source.
+  const double src[3] = {0, 0, 0}, d[4] = {0.3, -0.2, 0.5, 0.0}, dq[4] = {0, 0, 0, 2.0};
+  const double trg[3] = {1, 2, 2};
+  double u[3], us[3], uq[3];
+  direct_sum<StokesletSource>(src, 1, d, trg, 1, u);
+  direct_sum<Stokeslet>(src, 1, d, trg, 1, us);
+  direct_sum<StokesletSource>(src, 1, dq, trg, 1, uq);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(u[k], us[k], 1e-16);                              // rounding
+    EXPECT_NEAR(uq[k], 2.0 * trg[k] / 27 / (8 * kPi), 1e-16);     // q r/|r|^3, |r| = 3; rounding
+  }
+  EXPECT_EQ(StokesletSource::homogeneity + StokesletSource::degree_shift(3), -2);  // r/|r|^3
+  EXPECT_EQ(StokesletSource::degree_shift(0), 0);
+}
+
 TEST(LaplaceConvention, OneOverFourPiR) {
   const double src[6] = {0, 0, 0, 1, 1, 1}, q[2] = {2.0, 7.0}, trg[3] = {0, 0, 4};
   double u[1] = {99};
@@ -131,26 +250,41 @@ TEST(P2PSimd, StokesletMatchesScalarReference) {
   check_simd_against_scalar<Stokeslet>(7, 3);
 }
 TEST(P2PSimd, LaplaceMatchesScalarReference) { check_simd_against_scalar<Laplace>(1000, 333); }
+TEST(P2PSimd, StressletMatchesScalarReference) {
+  check_simd_against_scalar<Stresslet>(1000, 333);
+  check_simd_against_scalar<Stresslet>(7, 3);
+}
+TEST(P2PSimd, StokesletSourceMatchesScalarReference) { check_simd_against_scalar<StokesletSource>(1000, 333); }
 
 TEST(DirectSum, SourcesDifferFromTargetsMatchesReference) {
-  // 5000 sources (spans two source tiles), 700 targets in caller order, AoS in/out.
+  // 5000 sources (spans two source tiles), 700 targets in caller order, AoS in/out; the
+  // Stokeslet and the stresslet (f then n per source) against plain loops over their formulas.
   const std::size_t ns = 5000, nt = 700;
   auto s = random_points(ns, 3), t = random_points(nt, 4, -2, 2);
-  std::vector<double> f(3 * ns);
+  std::vector<double> d(6 * ns), f(3 * ns);
   std::mt19937_64 g(5);
   std::normal_distribution<double> nd;
-  for (auto& v : f) v = nd(g);
-  std::vector<double> u(3 * nt);
+  for (auto& v : d) v = nd(g);
+  for (std::size_t j = 0; j < ns; ++j)
+    for (int k = 0; k < 3; ++k) f[3 * j + k] = d[6 * j + k];
+  std::vector<double> u(3 * nt), ud(3 * nt);
   direct_sum<Stokeslet>(s.data(), ns, f.data(), t.data(), nt, u.data(), 2);
-  std::vector<double> ref(3 * nt, 0.0);
+  direct_sum<Stresslet>(s.data(), ns, d.data(), t.data(), nt, ud.data(), 2);
+  std::vector<double> ref(3 * nt, 0.0), refd(3 * nt, 0.0);
   for (std::size_t i = 0; i < nt; ++i)
     for (std::size_t j = 0; j < ns; ++j) {
       double r[3], r2 = 0;
-      for (int d = 0; d < 3; ++d) { r[d] = t[3 * i + d] - s[3 * j + d]; r2 += r[d] * r[d]; }
+      for (int a = 0; a < 3; ++a) { r[a] = t[3 * i + a] - s[3 * j + a]; r2 += r[a] * r[a]; }
       const double ri = 1 / std::sqrt(r2), fr = (r[0] * f[3 * j] + r[1] * f[3 * j + 1] + r[2] * f[3 * j + 2]);
-      for (int d = 0; d < 3; ++d) ref[3 * i + d] += (f[3 * j + d] * ri + r[d] * fr * ri * ri * ri) / (8 * kPi);
+      const double ri5 = ri * ri * ri * ri * ri;
+      for (int a = 0; a < 3; ++a) ref[3 * i + a] += (f[3 * j + a] * ri + r[a] * fr * ri * ri * ri) / (8 * kPi);
+      for (int a = 0; a < 3; ++a)  // T_abc f_b n_c with T_abc = −6 r_a r_b r_c/|r|^5
+        for (int b = 0; b < 3; ++b)
+          for (int c = 0; c < 3; ++c)
+            refd[3 * i + a] += -6 * r[a] * r[b] * r[c] * ri5 * d[6 * j + b] * d[6 * j + 3 + c] / (8 * kPi);
     }
   EXPECT_LT(rel_l2(u, ref), 1e-13);  // same bound and reason as the SIMD test
+  EXPECT_LT(rel_l2(ud, refd), 1e-13);  // the double-layer sum in full double precision; same bound
 }
 
 // The mixed-precision Stokeslet direct sum (single-precision pairs, double sums) against the

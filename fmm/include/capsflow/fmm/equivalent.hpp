@@ -12,6 +12,10 @@
 // of column b minus E::homogeneity (default 0). Such a component of a box of half-width ρ is
 // stored multiplied by ρ^{degree_shift(b)} ("reference-scaled"), which keeps every operator
 // level-independent (derivation: docs/fmm.md §3.10).
+// K::net_force_free = true (default false) says that K's sums exert no net force (the stresslet);
+// the upward densities, whose components 0–2 are then Stokeslet forces, are kept free of net force
+// too (operators.hpp): a spurious net force decays like 1/r against the sources' 1/r², so it would
+// grow relative to them by 2 per level of M2M.
 #include <type_traits>
 
 namespace capsflow::fmm {
@@ -30,6 +34,11 @@ struct DownwardEquivalentOf<K, std::void_t<typename K::DownwardEquivalent>> { us
 template <class K>
 inline constexpr bool has_own_equivalents = !std::is_same_v<typename UpwardEquivalentOf<K>::type, K> ||
                                            !std::is_same_v<typename DownwardEquivalentOf<K>::type, K>;
+
+template <class K, class = void>
+struct NetForceFree : std::false_type {};
+template <class K>
+struct NetForceFree<K, std::void_t<decltype(K::net_force_free)>> : std::bool_constant<K::net_force_free> {};
 
 template <class E, class = void>
 struct HasDegreeShift : std::false_type {};

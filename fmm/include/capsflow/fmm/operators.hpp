@@ -6,7 +6,9 @@
 //
 // Scale invariance (kernel homogeneous of degree h): everything is built for a reference box of
 // half-width 1. Vectors are component-major: entry (c, k) of a surface vector is at c*n + k.
-//   uc2ue : pseudo-inverse of K(UC@2.95 <- UE@1.05)            (src_dim·n × trg_dim·n)
+//   uc2ue : pseudo-inverse of K(UC@2.95 <- UE@1.05)            (src_dim·n × trg_dim·n); for a
+//           kernel without net force (equivalent.hpp) followed by the removal of the densities'
+//           net force (the mean of each force component), folded into its factor vs
 //   dc2de : pseudo-inverse of K(DC@1.05 <- DE@2.95)
 //           both stored and applied as two SVD factors (PinvFactors: why)
 //   m2m[o]: K(parent UC@2.95 <- child-o UE)   (child half-width 1/2, centre at ±1/2) — the
@@ -44,7 +46,8 @@ namespace capsflow::fmm {
 inline double pinv_rel_tol(int p) { return p <= 10 ? 1e-10 : 1e-11; }
 
 
-/// Dense kernel matrix K (trg_dim·nt × src_dim·ns), component-major, scale included.
+/// Dense kernel matrix K (trg_dim·nt × src_dim·ns), component-major, scale included. For kernels
+/// linear in the density (the equivalent kernels); the stresslet, bilinear in (f, n), has none.
 template <class Kernel>
 Eigen::MatrixXd kernel_matrix(const double* tx, const double* ty, const double* tz, int nt,
                               const double* sx, const double* sy, const double* sz, int ns) {
@@ -111,6 +114,7 @@ class Operators {
     key_ = std::string(key) + " pinv=factored";
     if constexpr (has_own_equivalents<Kernel>)
       key_ += std::string(" up=") + Up::name + " down=" + Down::name;
+    if constexpr (NetForceFree<Kernel>::value) key_ += " up_net_force=0";
     if (!dir.empty()) path_ = dir + "/" + Kernel::name + "_p" + std::to_string(p) + "_f64.bin";
     std::vector<Eigen::MatrixXd> mats;
     const int TD = Kernel::trg_dim;
@@ -163,6 +167,16 @@ class Operators {
     const double c0[3] = {0, 0, 0};
     const double rel = pinv_rel_tol(surf_.p);
     uc2ue_ = regularised_pinv_factors(kmat<Up>(kRadOuter, c0, kRadInner, c0), rel);
+    if constexpr (NetForceFree<Kernel>::value) {
+      // (I − mean) on the rows of the force components: every upward density has zero net force
+      // (docs/fmm.md §3.10: without it the stresslet's error grows by 2 per level of a deep tree)
+      static_assert(Up::src_dim >= 3, "the upward density's components 0-2 are Stokeslet forces");
+      const int n = surf_.n;
+      for (int a = 0; a < 3; ++a) {
+        const Eigen::RowVectorXd mean = uc2ue_.vs.middleRows(a * n, n).colwise().mean();
+        uc2ue_.vs.middleRows(a * n, n).rowwise() -= mean;
+      }
+    }
     dc2de_ = regularised_pinv_factors(kmat<Down>(kRadInner, c0, kRadOuter, c0), rel);
   }
   void build_translations() {
