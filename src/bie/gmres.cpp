@@ -1,5 +1,6 @@
 #include "capsflow/core/bie/gmres.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -14,7 +15,7 @@ GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::Vecto
   const int m = std::max(1, opt.restart);
   auto dot = [&](const VectorXd& a, const VectorXd& c) { return (weight.array() * a.array() * c.array()).sum(); };
   auto norm = [&](const VectorXd& a) { return std::sqrt(dot(a, a)); };
-  const double target = opt.tolerance * scale;
+  double target = opt.tolerance * scale;
 
   GmresResult res;
   std::vector<VectorXd> V(static_cast<size_t>(m + 1)), W;  // Arnoldi basis, aux images
@@ -28,6 +29,8 @@ GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::Vecto
     r = b - Av;
     double beta = norm(r);
     res.residual = beta;
+    if (scale <= 0 && res.iterations == 0) target = opt.tolerance * beta;
+    target = std::max(target, opt.floor);
     if (beta <= target) {
       res.converged = true;
       return res;

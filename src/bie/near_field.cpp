@@ -80,4 +80,17 @@ NearFieldLists::NearFieldLists(const Triangles& t, Eigen::Index n_nodes, int rin
   }
 }
 
+std::vector<std::array<int, 2>> far_field_source_slots(const NearFieldLists& lists, Eigen::Index n_elements,
+                                                       bool edge_midpoints) {
+  std::vector<std::array<int, 2>> slots;
+  if (edge_midpoints) {
+    slots.resize(static_cast<std::size_t>(lists.num_edges()));
+    for (Eigen::Index edge = 0; edge < lists.num_edges(); ++edge) slots[static_cast<std::size_t>(edge)] = lists.sides(edge);
+  } else {
+    slots.resize(static_cast<std::size_t>(3 * n_elements));
+    for (std::size_t slot = 0; slot < slots.size(); ++slot) slots[slot] = {static_cast<int>(slot), -1};
+  }
+  return slots;
+}
+
 }  // namespace capsflow

@@ -84,7 +84,7 @@ void evaluate_off_surface(SingleLayer& S, const Points& x, const Points& q, cons
           for (int e : it->second) {
             if (std::find(seen.begin(), seen.end(), e) != seen.end()) continue;
             seen.push_back(e);
-            Element el{S.element(x, e, 0), {}};
+            Element el{S.surface_.element(x, e, 0), {}};
             Vec3 corner[3];
             double h = 0;
             for (int v = 0; v < 3; ++v) {

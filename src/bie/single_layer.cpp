@@ -42,27 +42,15 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
       n_nodes_(n_nodes),
       opt_(opt),
       threads_(opt.threads > 0 ? opt.threads : omp_get_max_threads()),
-      curved_(opt.geometry == SurfaceGeometry::Curved),
       far_rule_(far_field_rule(opt)),
       rule_(opt.singular_points),
-      rule_u_(curved_ ? opt.singular_radial_points : 1),
-      lists_(triangles, n_nodes, near_ring_layers(opt), corrected_layers(opt)) {
+      rule_u_(opt.geometry == SurfaceGeometry::Curved ? opt.singular_radial_points : 1),
+      lists_(triangles, n_nodes, near_ring_layers(opt), corrected_layers(opt)),
+      surface_(triangles, opt.geometry),
+      source_slots_(far_field_source_slots(lists_, triangles.rows(), far_rule_ == FarFieldRule::EdgeMidpoints)) {
   if (opt.singular_radial_points > 16)
     throw std::invalid_argument("singular_radial_points: at most 16 Gauss points in u");
-  // Far-field sources: one per edge (midpoints; its two sides), or one per Gauss point.
   const std::size_t m = static_cast<std::size_t>(tri_.rows());
-  if (far_rule_ == FarFieldRule::EdgeMidpoints) {
-    slot_source_ = lists_.edge_of_slot();
-    source_slots_.resize(static_cast<std::size_t>(lists_.num_edges()));
-    for (Eigen::Index edge = 0; edge < lists_.num_edges(); ++edge) source_slots_[static_cast<std::size_t>(edge)] = lists_.sides(edge);
-  } else {
-    slot_source_.resize(3 * m);
-    source_slots_.resize(3 * m);
-    for (std::size_t slot = 0; slot < 3 * m; ++slot) {
-      slot_source_[slot] = static_cast<int>(slot);
-      source_slots_[slot] = {static_cast<int>(slot), -1};
-    }
-  }
   backend_ = choose_backend(opt.backend, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   mixed_precision_ = uses_mixed_precision(backend_, opt.tolerance);
   if (backend_ == FarFieldBackend::Fmm) {
@@ -78,7 +66,6 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   strength_.resize(3 * source_slots_.size());
   far_block_.resize(m);
   if (opt.near_ring_depth == 0 && lists_.ring_layers() > 0) ring_block_.resize(m);
-  mid_.resize(3 * m);
   batches_.resize(static_cast<size_t>(threads_));
 }
 
@@ -86,31 +73,8 @@ SingleLayer::~SingleLayer() = default;
 
 int SingleLayer::fmm_order() const { return fmm_ ? fmm_->order() : 0; }
 
-void SingleLayer::build_surface(const Points& x) {
-  if (!curved_) return;  // flat facets need no midpoints (element() builds them)
-  vertex_normals_max(x, tri_, normals_);
-  const Eigen::Index m = tri_.rows();
-#pragma omp parallel for schedule(static) num_threads(threads_)
-  for (Eigen::Index e = 0; e < m; ++e)
-    for (int k = 0; k < 3; ++k) {
-      const int a = tri_(e, k), b = tri_(e, (k + 1) % 3);
-      mid_[static_cast<size_t>(3 * e + k)] = hermite_edge_midpoint(x.row(a).transpose(), x.row(b).transpose(),
-                                                                   normals_.row(a).transpose(), normals_.row(b).transpose());
-    }
-}
-
-QuadraticTriangle SingleLayer::element(const Points& x, Eigen::Index e, int first) const {
-  const int k1 = (first + 1) % 3, k2 = (first + 2) % 3;
-  const Vec3* m = &mid_[static_cast<size_t>(3 * e)];
-  if (!curved_)
-    return QuadraticTriangle::flat(x.row(tri_(e, first)).transpose(), x.row(tri_(e, k1)).transpose(),
-                                   x.row(tri_(e, k2)).transpose());
-  return QuadraticTriangle(x.row(tri_(e, first)).transpose(), x.row(tri_(e, k1)).transpose(), x.row(tri_(e, k2)).transpose(),
-                           m[first], m[k1], m[k2]);
-}
-
 void SingleLayer::build_sources(const Points& x, const Points& q) {
-  build_surface(x);
+  surface_.update(x, threads_);
   const Eigen::Index m = tri_.rows(), n_src = far_field_sources();
   const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
   const bool band = lists_.corrected_layers() > lists_.ring_layers();
@@ -126,7 +90,7 @@ void SingleLayer::build_sources(const Points& x, const Points& q) {
     Vec3 y, f;
 #pragma omp for schedule(static)
     for (Eigen::Index e = 0; e < m; ++e) {
-      const QuadraticTriangle T = element(x, e, 0);
+      const QuadraticTriangle T = surface_.element(x, e, 0);
       StokesletBlock& fb = far_block_[static_cast<size_t>(e)];
       for (int k = 0; k < 3; ++k) {  // the far-field rule (degree 2, weights 1/6 of the Jacobian), negated
         rule_point(T, e, far_bary[k], 1.0 / 6.0, y, f);
@@ -202,7 +166,7 @@ void SingleLayer::correct_near_field(const Points& x, const Points& q, Points& u
       Vec3 local = Vec3::Zero();  // closed-form and matrix-valued terms
       for (int e : lists_.touching(i)) {
         const int k0 = tri_(e, 0) == i ? 0 : (tri_(e, 1) == i ? 1 : 2);
-        local += singular_element_apply(batch, element(x, e, k0), q.row(i).transpose(),
+        local += singular_element_apply(batch, surface_.element(x, e, k0), q.row(i).transpose(),
                                         q.row(tri_(e, (k0 + 1) % 3)).transpose(), q.row(tri_(e, (k0 + 2) % 3)).transpose(), rule_,
                                         rule_u_);
         far_block_[static_cast<size_t>(e)].accumulate(xi, kFarLane, 3, acc);
@@ -211,7 +175,7 @@ void SingleLayer::correct_near_field(const Points& x, const Points& q, Points& u
         if (!ring_block_.empty()) {
           ring_block_[static_cast<size_t>(e)].accumulate(xi, 0, 7, acc);
         } else {
-          const auto S = refined_element_integral(x.row(i).transpose(), element(x, e, 0), opt_.near_ring_depth);
+          const auto S = refined_element_integral(x.row(i).transpose(), surface_.element(x, e, 0), opt_.near_ring_depth);
           for (int k = 0; k < 3; ++k) local += S[k] * q.row(tri_(e, k)).transpose();
         }
         far_block_[static_cast<size_t>(e)].accumulate(xi, kFarLane, 3, acc);

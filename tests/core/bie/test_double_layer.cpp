@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
 
-#include "capsflow/core/bie/quadrature.hpp"
+#include "capsflow/core/bie/double_layer.hpp"
+#include "capsflow/core/mesh/generation.hpp"
 #include "support/gauss_kronrod.hpp"
 
 using namespace capsflow;
@@ -63,5 +67,163 @@ TEST(SingularDoubleLayer, CurvedElementMatchesAdaptivePolarQuadrature) {
         EXPECT_LT((tight[k] - ref[k]).norm(), 1e-9 * scale) << "h " << h << " skew " << skew << " hat " << k;
         EXPECT_LT((prod[k] - ref[k]).norm(), 5e-5 * scale) << "h " << h << " skew " << skew << " hat " << k;
       }
+    }
+}
+
+namespace {
+
+// Exact double layer on the unit sphere (docs/boundary-integral.md §4.7.4): every field below is
+// an eigenfunction, D[u] = μ u. H is a solid harmonic of degree n.
+//   rigid motions c and ω × x:        μ = 1/2
+//   x × ∇H (toroidal):                μ = 3/(2(2n+1))
+//   ∇H (interior potential flow):     μ = 3/(2(2n−1)(2n+1))
+//   ∇(H r^−(2n+1)) = ∇H − (2n+1)H x:  μ = −3/(2(2n+1)(2n+3))   (n = 0: x, μ = −1/2)
+struct SphereField {
+  std::string name;
+  std::function<Vec3(const Vec3&)> u;
+  double mu;
+};
+
+std::vector<SphereField> sphere_fields() {
+  const Vec3 c(0.3, -1.0, 0.5), omega(0.2, 0.7, -0.4);
+  auto grad2 = [](const Vec3& x) { return Vec3(x.y(), x.x(), 0); };  // H = xy
+  auto grad3 = [](const Vec3& x) { return Vec3(x.y() * x.z(), x.x() * x.z(), x.x() * x.y()); };  // H = xyz
+  return {
+      {"translation", [c](const Vec3&) { return c; }, 0.5},
+      {"rotation", [omega](const Vec3& x) { return Vec3(omega.cross(x)); }, 0.5},
+      {"toroidal n=2", [grad2](const Vec3& x) { return Vec3(x.cross(grad2(x))); }, 3.0 / 10},
+      {"toroidal n=3", [grad3](const Vec3& x) { return Vec3(x.cross(grad3(x))); }, 3.0 / 14},
+      {"interior n=2", grad2, 1.0 / 10},
+      {"interior n=3", grad3, 3.0 / 70},
+      {"exterior n=0", [](const Vec3& x) { return x; }, -0.5},
+      {"exterior n=1", [](const Vec3& x) { return Vec3(Vec3::UnitZ() - 3 * x.z() * x); }, -1.0 / 10},
+      {"exterior n=2", [grad2](const Vec3& x) { return Vec3(grad2(x) - 5 * x.x() * x.y() * x); }, -3.0 / 70},
+      {"exterior n=3", [grad3](const Vec3& x) { return Vec3(grad3(x) - 7 * x.x() * x.y() * x.z() * x); }, -1.0 / 42},
+  };
+}
+
+// Largest node error of D_h[u] against μ u, relative to max |u|, per field, at mesh levels 3–5.
+std::vector<std::array<double, 3>> sphere_errors(SurfaceGeometry geometry) {
+  const auto fields = sphere_fields();
+  std::vector<std::array<double, 3>> err(fields.size());
+  for (int level = 3; level <= 5; ++level) {
+    const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, level);
+    SingleLayerOptions opt;
+    opt.backend = BackendRequest::Direct;
+    opt.geometry = geometry;
+    DoubleLayer D(m.triangles, m.num_nodes(), opt);
+    D.set_surface(m.vertices);
+    for (size_t f = 0; f < fields.size(); ++f) {
+      Points u(m.num_nodes(), 3), out;
+      for (Eigen::Index i = 0; i < u.rows(); ++i) u.row(i) = fields[f].u(m.vertices.row(i).transpose()).transpose();
+      D.apply(u, out);
+      err[f][static_cast<size_t>(level - 3)] = (out - fields[f].mu * u).rowwise().norm().maxCoeff() / u.rowwise().norm().maxCoeff();
+    }
+  }
+  for (size_t f = 0; f < fields.size(); ++f)
+    std::printf("%-8s %-14s %.3e %.3e %.3e  orders %.2f %.2f\n", geometry == SurfaceGeometry::Flat ? "flat" : "curved",
+                fields[f].name.c_str(), err[f][0], err[f][1], err[f][2], std::log2(err[f][0] / err[f][1]),
+                std::log2(err[f][1] / err[f][2]));
+  return err;
+}
+
+const std::vector<std::array<double, 3>>& flat_errors() {
+  static const auto err = sphere_errors(SurfaceGeometry::Flat);  // shared by the two tests below
+  return err;
+}
+
+}  // namespace
+
+// Errors at level 4 (5 120 elements) and orders between levels 3, 4, 5 (perf/RESULTS.md §3.2):
+// second order for every non-rigid field on both geometries. The floors below are the measured
+// worst cases with a margin: level-4 error 2.5e-3 (flat) and 9.0e-4 (curved), orders ≥ 1.92
+// (floor 1.85).
+void expect_second_order(const std::vector<std::array<double, 3>>& err, double floor4, size_t first) {
+  const auto fields = sphere_fields();
+  for (size_t f = first; f < err.size(); ++f) {
+    EXPECT_LT(err[f][1], floor4) << fields[f].name;
+    for (int l = 1; l < 3; ++l)
+      EXPECT_GE(std::log2(err[f][static_cast<size_t>(l - 1)] / err[f][static_cast<size_t>(l)]), 1.85)
+          << fields[f].name << " levels " << l + 2 << "→" << l + 3;
+  }
+}
+
+TEST(DoubleLayerSphere, FlatFacetsConvergeAtSecondOrder) {
+  const auto err = flat_errors();
+  // Rigid motions are exact to round-off on flat facets: D_h[c] = c/2 is imposed, and for ω × x
+  // every pair term vanishes after the subtraction, T(r)·(ω × r) = −6 r (r·(ω × r))(r·n)/|r|⁵ = 0.
+  for (size_t f = 0; f < 2; ++f)
+    for (double e : err[f]) EXPECT_LT(e, 1e-13) << sphere_fields()[f].name;
+  expect_second_order(err, 3e-3, 2);
+}
+
+TEST(DoubleLayerSphere, CurvedElementsConvergeAtSecondOrder) {
+  const auto err = sphere_errors(SurfaceGeometry::Curved);
+  for (double e : err[0]) EXPECT_LT(e, 1e-13);  // constants: imposed
+  // The rotation is not exact here: its P1 interpolation lives on the chords, not on the curved
+  // surface (O(h²): 3.6e-4 at level 4); the toroidal fields likewise (2–3× the flat error).
+  expect_second_order(err, 1e-3, 1);
+  // Where the curved surface pays: the potential-flow (normal-carrying) modes, measured 6–14×
+  // more accurate than on flat facets at level 4, 3.2× for the radial field x; at least 2.5×.
+  const auto& flat = flat_errors();
+  for (size_t f = 4; f < err.size(); ++f) EXPECT_LT(2.5 * err[f][1], flat[f][1]) << sphere_fields()[f].name;
+}
+
+namespace {
+
+// The boundary-integral identities of §4.7.4 on any closed surface, for the flow of a point force
+// F at x_s (u = G(x − x_s)F/8π, traction f = T(x − x_s)·F·n/8π):
+//   x_s outside S (flow regular inside):  ½ u = S[f] + D[u]
+//   x_s inside S (flow decaying outside): ½ u = −S[f] − D[u]
+// Largest node residual relative to max |u|, at levels 3–5, for the single and double layers
+// discretised alike.
+std::array<double, 3> identity_residuals(double aspect, SurfaceGeometry geometry, const Vec3& xs) {
+  const Vec3 F(0.3, -0.5, 0.8);
+  const bool inside = xs.norm() < 0.5;
+  std::array<double, 3> res{};
+  for (int level = 3; level <= 5; ++level) {
+    const SurfaceMesh sphere = make_sphere_mesh(BaseSolid::Icosahedron, level);
+    SurfaceMesh m = sphere;
+    map_to_spheroid(m, aspect, 2);
+    SingleLayerOptions opt;
+    opt.backend = BackendRequest::Direct;
+    opt.geometry = geometry;
+    SingleLayer S(m.triangles, m.num_nodes(), opt);
+    DoubleLayer D(m.triangles, m.num_nodes(), opt);
+    // Exact outward normals at the nodes: the unit sphere's nodes scaled by the semi-axes.
+    Points u(m.num_nodes(), 3), f(m.num_nodes(), 3), Su, Du;
+    Vec3 semi;
+    for (int k = 0; k < 3; ++k) semi[k] = m.vertices.col(k).norm() / sphere.vertices.col(k).norm();
+    for (Eigen::Index i = 0; i < u.rows(); ++i) {
+      const Vec3 x = m.vertices.row(i).transpose(), r = x - xs;
+      const Vec3 n = x.cwiseQuotient(semi.cwiseProduct(semi)).normalized();
+      u.row(i) = (stokeslet_matrix(r) * F / (8 * M_PI)).transpose();
+      const double r5 = std::pow(r.norm(), 5);
+      f.row(i) = (-6.0 * r.dot(F) * r.dot(n) / r5 * r / (8 * M_PI)).transpose();
+    }
+    S.apply(m.vertices, f, Su);
+    D.set_surface(m.vertices);
+    D.apply(u, Du);
+    const Points residual = inside ? Points(0.5 * u + Su + Du) : Points(0.5 * u - Su - Du);
+    res[static_cast<size_t>(level - 3)] = residual.rowwise().norm().maxCoeff() / u.rowwise().norm().maxCoeff();
+  }
+  std::printf("identity aspect %.1f %-6s %s: %.3e %.3e %.3e orders %.2f %.2f\n", aspect,
+              geometry == SurfaceGeometry::Flat ? "flat" : "curved", inside ? "inside " : "outside", res[0], res[1],
+              res[2], std::log2(res[0] / res[1]), std::log2(res[1] / res[2]));
+  return res;
+}
+
+}  // namespace
+
+// A prolate spheroid (a/b = 2): no closed form for D alone, but the identities tie it to the
+// single layer for any Stokes flow, here point forces outside and inside.
+TEST(DoubleLayerSpheroid, ReproducesTheBoundaryIntegralIdentities) {
+  for (SurfaceGeometry g : {SurfaceGeometry::Flat, SurfaceGeometry::Curved})
+    for (const Vec3& xs : {Vec3(1.5, 0.4, 1.2), Vec3(0.1, -0.05, 0.3)}) {
+      const auto r = identity_residuals(2.0, g, xs);
+      // Measured at level 4: 9.9e-4–2.3e-3; orders 1.82–1.90 (levels 3→4) and 1.95–1.96 (4→5).
+      EXPECT_LT(r[1], 3e-3);
+      EXPECT_GE(std::log2(r[0] / r[1]), 1.75);
+      EXPECT_GE(std::log2(r[1] / r[2]), 1.85);
     }
 }

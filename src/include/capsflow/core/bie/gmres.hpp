@@ -17,6 +17,7 @@ struct GmresOptions {
   double tolerance = 1e-8;  // stop when ‖b − A x‖ ≤ tolerance · scale (scale: see gmres())
   int restart = 30;         // Krylov dimension before a restart
   int max_iterations = 300;  // operator applications after the initial residual
+  double floor = 0;          // the target residual is never below this (absolute)
 };
 
 struct GmresResult {
@@ -29,8 +30,9 @@ struct GmresResult {
 using GmresOperator = std::function<void(const Eigen::VectorXd& v, Eigen::VectorXd& y, Eigen::VectorXd* aux)>;
 
 // Solves A x = b from the initial guess in x. `scale` > 0 sets the absolute target
-// tolerance · scale (e.g. ‖b‖, or the size of the solution one needs). `aux`, when non-null,
-// receives aux(x) at exit. `weight` has one positive entry per unknown.
+// tolerance · scale (e.g. ‖b‖, or the size of the solution one needs); scale ≤ 0 makes it relative
+// to the initial residual (tolerance · ‖b − A x0‖). `aux`, when non-null, receives aux(x) at exit.
+// `weight` has one positive entry per unknown.
 GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::VectorXd& x, const Eigen::VectorXd& weight,
                   double scale, const GmresOptions& opt, Eigen::VectorXd* aux = nullptr);
 

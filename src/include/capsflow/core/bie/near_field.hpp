@@ -56,4 +56,10 @@ class NearFieldLists {
   std::vector<std::array<int, 2>> sides_;                                      // per edge
 };
 
+// The far field's point sources: element e's rule point k is slot 3e + k. With the edge-midpoint
+// rule the two slots of an edge (its two sides) are one source; otherwise every slot is one.
+// Per source its slots, the second −1 when alone (or on a boundary edge).
+std::vector<std::array<int, 2>> far_field_source_slots(const NearFieldLists& lists, Eigen::Index n_elements,
+                                                       bool edge_midpoints);
+
 }  // namespace capsflow

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "capsflow/core/bie/backend_choice.hpp"
+#include "capsflow/core/bie/boundary_surface.hpp"
 #include "capsflow/core/bie/near_field.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
 #include "capsflow/core/bie/stokeslet_block.hpp"
@@ -113,8 +114,6 @@ class SingleLayer {
   long far_field_checks_above_tolerance() const { return checks_above_; }
 
  private:
-  void build_surface(const Points& x);  // vertex normals and edge midpoints of the current surface
-  QuadraticTriangle element(const Points& x, Eigen::Index e, int first) const;  // written about vertex `first`
   void build_sources(const Points& x, const Points& q);
   void far_field(const double* targets, Eigen::Index n_targets, double* out, bool targets_are_nodes);
   void correct_near_field(const Points& x, const Points& q, Points& u);
@@ -126,18 +125,15 @@ class SingleLayer {
   int threads_;                                    // OpenMP threads of every parallel region
   FarFieldBackend backend_;
   std::string reason_;
-  bool curved_;
   FarFieldRule far_rule_;
   bool mixed_precision_ = false;  // direct far field with single-precision pairs (tolerance >= 1e-5)
   GaussLegendre rule_, rule_u_;
   NearFieldLists lists_;
-  Points normals_;                                 // vertex normals (curved only)
-  std::vector<Vec3> mid_;                          // edge midpoints: mid_[3e + k] on edge (k, k+1)
+  BoundarySurface surface_;                        // the flat or curved elements of the current surface
   std::vector<StokesletBatch> batches_;            // one per thread, reused across calls
   // Far field: element e's rule point k is slot 3e + k; slots that coincide (the two sides of an
   // edge, with the midpoint rule) are one source.
-  std::vector<int> slot_source_;                   // per slot: its source
-  std::vector<std::array<int, 2>> source_slots_;   // per source: its slots (the second -1 if alone)
+  std::vector<std::array<int, 2>> source_slots_;   // per source: its slots (near_field.hpp)
   std::vector<double> src_, strength_;             // per source: position and summed strength (xyz)
   // Per element, the near field's terms (stokeslet_block.hpp): far_block_ lanes 0–2 the band's
   // 3-point rule, lanes 3–5 the far-field terms negated (exactly the far field's positions);

@@ -1,0 +1,221 @@
+#include "capsflow/core/bie/double_layer.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "capsflow/core/bie/stresslet_pair.hpp"
+#include "capsflow/fmm/direct_sum.hpp"
+
+namespace capsflow {
+
+namespace {
+constexpr double kInv8Pi = StressletPair::scale();
+
+// T(r)·ñ (unscaled), symmetric: xx yy zz xy xz yz (StressletNormalPair's pair formula).
+using Sym = std::array<double, 6>;
+inline Sym stresslet_normal(const double* x, const double* y, const double* n) {
+  double m[6] = {0, 0, 0, 0, 0, 0};
+  const double r[3] = {x[0] - y[0], x[1] - y[1], x[2] - y[2]};
+  const double nn[3] = {n[0], n[1], n[2]};
+  StressletNormalPair::eval(m, r, fmm::simd::rsqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]), nn);
+  return {m[0], m[1], m[2], m[3], m[4], m[5]};
+}
+inline void add(double* b, double c, const Sym& m) {
+  for (int k = 0; k < 6; ++k) b[k] += c * m[k];
+}
+inline void add(double* b, double c, const Mat3& m) {
+  b[0] += c * m(0, 0), b[1] += c * m(1, 1), b[2] += c * m(2, 2);
+  b[3] += c * m(0, 1), b[4] += c * m(0, 2), b[5] += c * m(1, 2);
+}
+inline Vec3 sym_times(const double* b, const double* u) {
+  return {b[0] * u[0] + b[3] * u[1] + b[4] * u[2], b[3] * u[0] + b[1] * u[1] + b[5] * u[2],
+          b[4] * u[0] + b[5] * u[1] + b[2] * u[2]};
+}
+// A rule point (barycentrics l, weight w of the reference triangle) of an element: position and w N.
+inline void rule_point(const QuadraticTriangle& T, const double* l, double w, double* y, double* n) {
+  const Vec3 p = T.position(l[1], l[2]), a = w * T.area_normal(l[1], l[2]);
+  for (int d = 0; d < 3; ++d) y[d] = p[d], n[d] = a[d];
+}
+}  // namespace
+
+DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt)
+    : tri_(triangles),
+      n_nodes_(n_nodes),
+      opt_(opt),
+      threads_(opt.threads > 0 ? opt.threads : omp_get_max_threads()),
+      far_rule_(far_field_rule(opt)),
+      rule_(opt.singular_points),
+      rule_u_(opt.singular_radial_points),
+      lists_(triangles, n_nodes, near_ring_layers(opt), corrected_layers(opt)),
+      surface_(triangles, opt.geometry),
+      source_slots_(far_field_source_slots(lists_, triangles.rows(), far_rule_ == FarFieldRule::EdgeMidpoints)) {
+  if (opt.near_ring_depth > 0) throw std::invalid_argument("double layer: near_ring_depth > 0 is not supported");
+  backend_ = choose_backend(opt.backend, far_field_sources(), n_nodes, opt.tolerance, &reason_);
+  if (backend_ == FarFieldBackend::Fmm) {
+    // Until the stresslet FMM of capsflow::fmm exists, the double layer sums its far field directly.
+    backend_ = FarFieldBackend::Direct;
+    reason_ = "direct: the double-layer FMM is not available yet";
+  }
+  const size_t m = static_cast<size_t>(tri_.rows()), ns = source_slots_.size();
+  slot_y_.resize(9 * m), slot_n_.resize(9 * m);
+  if (lists_.corrected_layers() > lists_.ring_layers()) band_y_.resize(9 * m), band_n_.resize(9 * m);
+  if (lists_.ring_layers() > 0) ring_y_.resize(21 * m), ring_n_.resize(21 * m);
+  src_.resize(3 * ns), src_n_.resize(3 * ns), density_.resize(6 * ns);
+  build_near_pattern();
+}
+
+void DoubleLayer::build_near_pattern() {
+  // Columns of node i: the vertices of its touching, ring and band elements; slots in list order.
+  block_start_.assign(1, 0);
+  slot_start_.assign(1, 0);
+  std::vector<int> cols, listed;
+  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
+    listed.clear();
+    for (int e : lists_.touching(i)) listed.push_back(e);
+    for (int e : lists_.ring(i)) listed.push_back(e);
+    for (int e : lists_.band(i)) listed.push_back(e);
+    cols.clear();
+    for (int e : listed)
+      for (int k = 0; k < 3; ++k) cols.push_back(tri_(e, k));
+    std::sort(cols.begin(), cols.end());
+    cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+    const int base = block_start_.back();
+    block_col_.insert(block_col_.end(), cols.begin(), cols.end());
+    block_start_.push_back(static_cast<int>(block_col_.size()));
+    for (int e : listed)
+      for (int k = 0; k < 3; ++k)
+        slot_.push_back(base + static_cast<int>(std::lower_bound(cols.begin(), cols.end(), tri_(e, k)) - cols.begin()));
+    slot_start_.push_back(static_cast<int>(slot_.size()));
+  }
+  block_.resize(6 * block_col_.size());
+  diagonal_.resize(static_cast<size_t>(6 * n_nodes_));
+}
+
+void DoubleLayer::set_surface(const Points& x) {
+  if (x.rows() != n_nodes_) throw std::invalid_argument("double layer: positions must have one row per node");
+  Stopwatch clock, total;
+  x_ = x;
+  surface_.update(x, threads_);
+  const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
+  const Eigen::Index m = tri_.rows(), ns = far_field_sources();
+#pragma omp parallel num_threads(threads_)
+  {
+#pragma omp for schedule(static)
+    for (Eigen::Index e = 0; e < m; ++e) {
+      const QuadraticTriangle T = surface_.element(x, e, 0);
+      for (int k = 0; k < 3; ++k) rule_point(T, far_bary[k], 1.0 / 6.0, &slot_y_[9 * e + 3 * k], &slot_n_[9 * e + 3 * k]);
+      if (!band_y_.empty())
+        for (int g = 0; g < 3; ++g) rule_point(T, kGaussBary[g], 1.0 / 6.0, &band_y_[9 * e + 3 * g], &band_n_[9 * e + 3 * g]);
+      if (!ring_y_.empty())
+        for (int p = 0; p < 7; ++p)
+          rule_point(T, kDunavant7[p], 0.5 * kDunavant7[p][3], &ring_y_[21 * e + 3 * p], &ring_n_[21 * e + 3 * p]);
+    }
+    // Each source at its first slot's point with the sum of its slots' ñ (the two sides of an edge);
+    // its other slot takes the same position, so that the near field subtracts the far field's term.
+#pragma omp for schedule(static)
+    for (Eigen::Index s = 0; s < ns; ++s) {
+      const auto& sl = source_slots_[static_cast<size_t>(s)];
+      for (int d = 0; d < 3; ++d) {
+        src_[3 * s + d] = slot_y_[3 * sl[0] + d];
+        src_n_[3 * s + d] = slot_n_[3 * sl[0] + d] + (sl[1] < 0 ? 0.0 : slot_n_[3 * sl[1] + d]);
+        if (sl[1] >= 0) slot_y_[3 * sl[1] + d] = slot_y_[3 * sl[0] + d];
+      }
+    }
+  }
+  clock.lap(times_, Phase::BieSources);
+  // D̃[1]: the far field of the unit constants (one pass of T(r)·ñ), then the near blocks' row sums.
+  // Far-field points are interior to elements or edge midpoints, never a node: no r = 0 test, one
+  // Newton step (≤ 6e-9 per pair), as for the single layer's direct far field.
+  unit_far_.resize(6 * static_cast<size_t>(n_nodes_));
+  fmm::direct_sum<StressletNormalPair, 1, false>(src_.data(), static_cast<std::size_t>(ns), src_n_.data(), x_.data(),
+                                                 static_cast<std::size_t>(n_nodes_), unit_far_.data(), threads_);
+  clock.lap(times_, Phase::BieFar);
+  assemble_near_field(x);
+  clock.lap(times_, Phase::BieNear);
+  setup_seconds_ += total.seconds();
+  ++setups_;
+}
+
+void DoubleLayer::assemble_near_field(const Points& x) {
+  const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads_)
+  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
+    const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+    std::fill(&block_[6 * static_cast<size_t>(block_start_[i])], &block_[6 * static_cast<size_t>(block_start_[i + 1])], 0.0);
+    const int* slot = &slot_[static_cast<size_t>(slot_start_[i])];
+    auto block = [&](int j) { return &block_[6 * static_cast<size_t>(slot[j])]; };
+    // k points of a per-element rule (positions y, weighted normals n, barycentrics bary), sign ±1.
+    auto add_rule = [&](int e, const double* y, const double* n, int points, auto bary, double sign) {
+      for (int p = 0; p < points; ++p) {
+        const Sym M = stresslet_normal(xi, y + 3 * (points * e + p), n + 3 * (points * e + p));
+        for (int k = 0; k < 3; ++k) add(block(k), sign * bary(p)[k], M);
+      }
+    };
+    auto far = [&](int p) { return far_bary[p]; };
+    for (int e : lists_.touching(i)) {
+      if (surface_.curved()) {
+        const int k0 = tri_(e, 0) == i ? 0 : (tri_(e, 1) == i ? 1 : 2);
+        const auto Ms = singular_element_double_layer(surface_.element(x, e, k0), rule_, rule_u_);
+        for (int k = 0; k < 3; ++k) add(block((k0 + k) % 3), 1.0, Ms[static_cast<size_t>(k)]);
+      }
+      add_rule(e, slot_y_.data(), slot_n_.data(), 3, far, -1.0);
+      slot += 3;
+    }
+    for (int e : lists_.ring(i)) {
+      add_rule(e, ring_y_.data(), ring_n_.data(), 7, [](int p) { return kDunavant7[p]; }, 1.0);
+      add_rule(e, slot_y_.data(), slot_n_.data(), 3, far, -1.0);
+      slot += 3;
+    }
+    for (int e : lists_.band(i)) {
+      add_rule(e, band_y_.data(), band_n_.data(), 3, [](int p) { return kGaussBary[p]; }, 1.0);
+      add_rule(e, slot_y_.data(), slot_n_.data(), 3, far, -1.0);
+      slot += 3;
+    }
+    // Scale, then the diagonal ½ I − D̃[1](x_i): the far field of the unit constants plus the row sums.
+    double* Dg = &diagonal_[6 * static_cast<size_t>(i)];
+    const double* f = &unit_far_[6 * static_cast<size_t>(i)];
+    for (int k = 0; k < 6; ++k) Dg[k] = (k < 3 ? 0.5 : 0.0) - f[k];
+    for (int b = block_start_[i]; b < block_start_[i + 1]; ++b)
+      for (int k = 0; k < 6; ++k) {
+        block_[6 * static_cast<size_t>(b) + k] *= kInv8Pi;
+        Dg[k] -= block_[6 * static_cast<size_t>(b) + k];
+      }
+  }
+}
+
+void DoubleLayer::apply(const Points& u, Points& out) {
+  if (u.rows() != n_nodes_ || x_.rows() != n_nodes_)
+    throw std::invalid_argument("double layer: set_surface() first, and one row of u per node");
+  Stopwatch clock, total;
+  const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
+  const Eigen::Index ns = far_field_sources();
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (Eigen::Index s = 0; s < ns; ++s) {
+    const int slot = source_slots_[static_cast<size_t>(s)][0], e = slot / 3;
+    const double* l = far_bary[slot % 3];
+    double* d = &density_[6 * s];
+    for (int k = 0; k < 3; ++k) {
+      d[k] = l[0] * u(tri_(e, 0), k) + l[1] * u(tri_(e, 1), k) + l[2] * u(tri_(e, 2), k);
+      d[3 + k] = src_n_[3 * s + k];
+    }
+  }
+  clock.lap(times_, Phase::BieSources);
+  out.resize(n_nodes_, 3);
+  fmm::direct_sum<StressletPair, 1, false>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(),
+                                           static_cast<std::size_t>(n_nodes_), out.data(), threads_);
+  clock.lap(times_, Phase::BieFar);
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
+    Vec3 s = sym_times(&diagonal_[6 * static_cast<size_t>(i)], &u(i, 0));
+    for (int b = block_start_[i]; b < block_start_[i + 1]; ++b)
+      s += sym_times(&block_[6 * static_cast<size_t>(b)], &u(block_col_[static_cast<size_t>(b)], 0));
+    out.row(i) += s.transpose();
+  }
+  clock.lap(times_, Phase::BieNear);
+  apply_seconds_ += total.seconds();
+  ++applications_;
+}
+
+}  // namespace capsflow

@@ -1,0 +1,108 @@
+#include "capsflow/core/bie/viscosity_ratio.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+
+namespace capsflow {
+
+namespace {
+
+using Eigen::VectorXd;
+
+// The six rigid-body motions on the nodes, orthonormal in ⟨a, b⟩ = Σ m_i a_i·b_i (columns of Q).
+Eigen::Matrix<double, Eigen::Dynamic, 6> rigid_modes(const Points& x, const Eigen::VectorXd& m) {
+  const Eigen::Index n = x.rows();
+  const Vec3 c = (x.transpose() * m) / m.sum();  // area centroid: the rotations about it
+  Eigen::Matrix<double, Eigen::Dynamic, 6> Q(3 * n, 6);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Vec3 r = x.row(i).transpose() - c;
+    for (int k = 0; k < 3; ++k) {
+      Q.block<3, 1>(3 * i, k) = Vec3::Unit(k);
+      Q.block<3, 1>(3 * i, 3 + k) = Vec3::Unit(k).cross(r);
+    }
+  }
+  VectorXd w(3 * n);
+  for (Eigen::Index i = 0; i < n; ++i) w.segment<3>(3 * i).setConstant(m[i]);
+  for (int k = 0; k < 6; ++k) {  // modified Gram–Schmidt, twice for round-off
+    for (int pass = 0; pass < 2; ++pass)
+      for (int j = 0; j < k; ++j) Q.col(k) -= (w.array() * Q.col(j).array() * Q.col(k).array()).sum() * Q.col(j);
+    Q.col(k) /= std::sqrt((w.array() * Q.col(k).array().square()).sum());
+  }
+  return Q;
+}
+
+Eigen::Map<const VectorXd> flat(const Points& p) { return {p.data(), p.size()}; }
+
+}  // namespace
+
+ViscosityRatioSolver::ViscosityRatioSolver(const Triangles& triangles, Eigen::Index n_nodes, double lambda,
+                                           const SingleLayerOptions& bie_options, const GmresOptions& gmres_options)
+    : lambda_(lambda), kappa_((1 - lambda) / (1 + lambda)), D_(triangles, n_nodes, bie_options), gmres_(gmres_options) {
+  if (!(lambda > 0) || !std::isfinite(lambda)) throw std::invalid_argument("viscosity ratio: λ must be finite and > 0");
+}
+
+ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe) {
+  const Eigen::Index n = x.rows();
+  if (a.rows() != n || v1.rows() != n) throw std::invalid_argument("viscosity ratio: one row per node");
+  D_.set_surface(x);
+  const VectorXd m = a.rowwise().norm();  // nodal areas (|a_i| = |Σ A_e n_e/3|)
+  VectorXd w(3 * n);
+  for (Eigen::Index i = 0; i < n; ++i) w.segment<3>(3 * i).setConstant(m[i]);
+  const auto Q = rigid_modes(x, m);
+  auto project = [&](const VectorXd& v) -> VectorXd { return Q * (Q.transpose() * w.cwiseProduct(v)); };
+  Points nhat = a;
+  for (Eigen::Index i = 0; i < n; ++i) nhat.row(i) /= m[i];
+  const double a_nhat = m.sum();
+
+  // κ, 1 + κ = 2/(1 + λ) and κ/(1 + κ) = (1 − λ)/2, each formed without cancellation.
+  const double kappa = kappa_, one_plus_kappa = 2 / (1 + lambda_), kappa_over = (1 - lambda_) / 2;
+  Points Y(n, 3), DY;
+  // y ↦ R y = y + κ (I − P) Ã y, with aux = Ã y = A y + n̂ (aᵀy)/(aᵀn̂) (y has no rigid part).
+  const GmresOperator R = [&](const VectorXd& y, VectorXd& Ry, VectorXd* aux) {
+    Eigen::Map<VectorXd>(Y.data(), Y.size()) = y;
+    D_.apply(Y, DY);
+    VectorXd Ay = 2.0 * flat(DY) + flat(nhat) * (flat(a).dot(y) / a_nhat);
+    Ry = y + kappa * (Ay - project(Ay));
+    if (aux) *aux = std::move(Ay);
+  };
+  const VectorXd v = flat(v1), Pv = project(v);
+  const VectorXd b = one_plus_kappa * (v - Pv);
+  const double v_norm = std::sqrt(w.dot(v.cwiseProduct(v)));
+  ViscosityRatioStats st;
+  u.resize(n, 3);
+  if (v_norm == 0) {  // no flow, no load: u = 0
+    u.setZero();
+    if (!probe) previous_y_.setZero(3 * n), have_previous_ = true;
+    return st;
+  }
+  const bool warm = have_previous_ && previous_y_.size() == 3 * n;
+  VectorXd y = b;
+  if (warm) {  // the previous solution, moved by the change of the right-hand side (R ≈ I)
+    y = previous_y_ + (b - previous_b_);
+    y -= project(y);
+  }
+  VectorXd Ay = VectorXd::Zero(3 * n);
+  GmresOptions go = gmres_;
+  double scale = one_plus_kappa * v_norm;
+  if (probe && warm) {
+    // Relative to the initial residual (the difference from the base state), but not below
+    // 1e-3 of the trajectory's target, which the operator's own rounding could not meet.
+    go.floor = 1e-3 * gmres_.tolerance * scale;
+    scale = 0;
+  }
+  const GmresResult r = gmres(R, b, y, w, scale, go, &Ay);
+  st.iterations = r.iterations;
+  st.residual = r.residual / (one_plus_kappa * v_norm);  // relative to the solution's scale in both modes
+  st.converged = r.converged;
+  const VectorXd sol = Pv - kappa_over * project(Ay) + y;
+  Eigen::Map<VectorXd>(u.data(), u.size()) = sol;
+  if (!probe) previous_y_ = y, previous_b_ = b, have_previous_ = true;
+  ++solves_;
+  total_iterations_ += r.iterations;
+  max_iterations_seen_ = std::max(max_iterations_seen_, r.iterations);
+  return st;
+}
+
+}  // namespace capsflow

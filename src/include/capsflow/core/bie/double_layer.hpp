@@ -1,0 +1,97 @@
+#pragma once
+// The double-layer operator on the capsule surface at the nodes (docs/boundary-integral.md §4.7):
+//
+//   D[u](x) = (1/8π) PV∫_S T(x − y) : u(y) n(y) dS_y,   (T : u n)_i = T_ijk u_j n_k,
+//   T_ijk(r) = −6 r_i r_j r_k/|r|⁵,  r = x − y,  n the outward normal,
+//
+// for a velocity u linear on each element (nodal values u_k), discretised exactly as the single
+// layer (single_layer.hpp: same options, far-field rule and sources, near-field lists, surface).
+// With this sign D[c] = c/2 for a constant c at every smooth point of a closed surface (the
+// Gauss-type identity PV∫ T(x − y)·n dS = 4π I). The operator is
+//   D_h[u](x_i) = ½ u_i + D̃[u](x_i) − D̃[1](x_i) u_i,
+// D̃ the discrete integral (far field: the single layer's far-field points as stresslet sources;
+// touching elements, near ring and band integrated as for the single layer) and D̃[1](x_i) its value
+// for the three unit constants: the identity is imposed exactly (D_h[c] = c/2), which removes the
+// O(h) error of the polyhedral vertices and every error proportional to u_i.
+//
+// set_surface(x) does everything that depends only on the surface — the far field's points and
+// normals, the near-field terms as a sparse matrix of symmetric 3×3 blocks, D̃[1] — so that the
+// repeated applications of an iterative solve (apply(u)) cost one far-field sum and one sparse
+// product each.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "capsflow/core/bie/boundary_surface.hpp"
+#include "capsflow/core/bie/near_field.hpp"
+#include "capsflow/core/bie/quadrature.hpp"
+#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/types.hpp"
+
+namespace capsflow {
+
+class DoubleLayer {
+ public:
+  // The single layer's options: far-field back end, rule and tolerance, geometry, singular points,
+  // near-ring and corrected layers, threads (near_ring_depth > 0 is not supported here).
+  DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt = {});
+
+  // Everything that depends on the surface x only; call whenever the nodes move.
+  void set_surface(const Points& x);
+  // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
+  void apply(const Points& u, Points& out);
+
+  FarFieldBackend backend() const { return backend_; }
+  const std::string& backend_reason() const { return reason_; }
+  Eigen::Index far_field_sources() const { return static_cast<Eigen::Index>(source_slots_.size()); }
+  // Near-field blocks per node (memory: 6 doubles and an int each).
+  double blocks_per_node() const { return static_cast<double>(block_col_.size()) / static_cast<double>(n_nodes_); }
+  // The near-field matrix's memory (blocks, their columns, slots, row starts), in MB.
+  double near_field_megabytes() const {
+    return (8.0 * static_cast<double>(block_.size() + diagonal_.size()) +
+            4.0 * static_cast<double>(block_col_.size() + slot_.size() + block_start_.size() + slot_start_.size())) / 1e6;
+  }
+  // Seconds in BieSources, BieFar and BieNear over all calls, and split by call: set_surface()
+  // (surface, near blocks, D̃[1]) and apply().
+  const PhaseTimes& times() const { return times_; }
+  double setup_seconds() const { return setup_seconds_; }
+  double apply_seconds() const { return apply_seconds_; }
+  long setups() const { return setups_; }
+  long applications() const { return applications_; }
+
+ private:
+  void build_near_pattern();
+  void assemble_near_field(const Points& x);
+
+  Triangles tri_;
+  Eigen::Index n_nodes_;
+  SingleLayerOptions opt_;
+  int threads_;
+  FarFieldRule far_rule_;
+  GaussLegendre rule_, rule_u_;
+  NearFieldLists lists_;
+  BoundarySurface surface_;
+  std::vector<std::array<int, 2>> source_slots_;  // per far-field source: its slots 3e + k
+  FarFieldBackend backend_;
+  std::string reason_;
+  Points x_;                          // the nodes of the last set_surface() (far-field targets)
+  // Per slot 3e + k (element e's far-field point k): position (that of its source, so that the near
+  // field subtracts exactly what the far field added) and weighted normal ñ = w n = N/6.
+  std::vector<double> slot_y_, slot_n_;
+  std::vector<double> band_y_, band_n_;   // the 3-point rule of every element (band), likewise
+  std::vector<double> ring_y_, ring_n_;   // the 7-point rule of every element (near ring)
+  std::vector<double> src_, src_n_;       // per source: position and summed ñ of its slots
+  std::vector<double> density_;           // (u(y), ñ) per source: the far field of apply()
+  std::vector<double> unit_far_;          // far field of the unit constants (6 per node, symmetric)
+  // Near-field correction: per node i, symmetric blocks B_ij (xx yy zz xy xz yz) for the vertices j
+  // of its touching, ring and band elements (CSR), and the diagonal ½ I − D̃[1](x_i), both scaled by
+  // 1/8π. slot_ maps (node, listed element) to the blocks of its 3 vertices, in list order.
+  std::vector<int> block_start_, block_col_, slot_start_, slot_;
+  std::vector<double> block_, diagonal_;
+  PhaseTimes times_;
+  double setup_seconds_ = 0, apply_seconds_ = 0;
+  long setups_ = 0, applications_ = 0;
+};
+
+}  // namespace capsflow

@@ -1,0 +1,67 @@
+#pragma once
+// The surface velocity of a capsule whose inner liquid is λ times as viscous as the outer one
+// (docs/boundary-integral.md §4.8): the second-kind boundary integral equation
+//
+//   (1 + λ)/2 u + (1 − λ) D[u] = v1,   v1 = v∞ − S[q]  (the velocity the capsule would have at λ = 1),
+//
+// with D the double layer of double_layer.hpp (D[c] = c/2), written as
+//   u + κ A u = (1 + κ) v1,   A = 2D,   κ = (1 − λ)/(1 + λ) ∈ (−1, 1).
+// A has the eigenvalue 1 on the six rigid-body motions and −1 on the mode whose left eigenvector is
+// the normal (the volume mode), so the equation degenerates as λ → ∞ and λ → 0. Both are deflated:
+// with P the projector on the rigid motions (orthogonal in the nodal-area inner product) and
+// a_i = ∂V/∂x_i the discrete flux weights,
+//   Ã = A (I − P) + P + n̂ aᵀ/(aᵀn̂),   n̂_i = a_i/|a_i|,
+// has the rigid motions as exact eigenvectors (eigenvalue 1, as A has them in the continuum) and
+// eigenvalue ≈ 0 on the volume mode. Splitting u = P u + y, the equation (I + κÃ) u = (1 + κ) v1 is
+// block-triangular:
+//   y + κ (I − P) Ã y = (1 + κ)(I − P) v1          (GMRES; spectrum 1 + κμ, |μ| ≤ 3/5 on a sphere)
+//   P u = P v1 − κ/(1 + κ) · P Ã y                   (no solve; Ã y comes with the GMRES iterates)
+// so that neither limit is ill-conditioned and the rigid-body velocity is not amplified by λ.
+// The flux of u is (1 + κ) times that of v1 (in the continuum both vanish).
+//
+// GMRES starts from the last trajectory solve's y plus the change of the right-hand side since
+// (R is close to I; docs/boundary-integral.md §4.8.3) and stops when the residual is below
+// tolerance × (1 + κ) ‖v1‖ (nodal-area RMS): the error in u is then about tolerance × ‖v1‖.
+// A probe (a point off the trajectory, y + δw of the spectral-radius power iteration, which
+// differences two velocities δ apart) reduces its initial residual by the tolerance instead — so
+// that the *difference* is accurate to it — and leaves the warm start alone.
+#include "capsflow/core/bie/double_layer.hpp"
+#include "capsflow/core/bie/gmres.hpp"
+
+namespace capsflow {
+
+struct ViscosityRatioStats {
+  int iterations = 0;    // double-layer applications by GMRES in the last solve
+  double residual = 0;   // its final residual relative to (1 + κ)‖v1‖
+  bool converged = true;
+};
+
+class ViscosityRatioSolver {
+ public:
+  ViscosityRatioSolver(const Triangles& triangles, Eigen::Index n_nodes, double lambda,
+                       const SingleLayerOptions& bie_options, const GmresOptions& gmres_options);
+
+  // u on the surface x for the λ = 1 velocity v1; a = ∂V/∂x_i (volume_gradient). Returns the
+  // statistics of the solve; u is written also when it did not converge.
+  ViscosityRatioStats solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe = false);
+
+  double lambda() const { return lambda_; }
+  double kappa() const { return kappa_; }
+  const DoubleLayer& double_layer() const { return D_; }
+  long solves() const { return solves_; }
+  long total_iterations() const { return total_iterations_; }
+  int max_iterations_seen() const { return max_iterations_seen_; }
+  // Forget the warm start (e.g. after a restart from a checkpoint or a rejected step pattern).
+  void reset_warm_start() { have_previous_ = false; }
+
+ private:
+  double lambda_, kappa_;
+  DoubleLayer D_;
+  GmresOptions gmres_;
+  Eigen::VectorXd previous_y_, previous_b_;
+  bool have_previous_ = false;
+  long solves_ = 0, total_iterations_ = 0;
+  int max_iterations_seen_ = 0;
+};
+
+}  // namespace capsflow
