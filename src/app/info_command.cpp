@@ -49,6 +49,21 @@ int info_command(const InfoOptions& opt) {
   const nlohmann::json& r = info["run"];
   fmt::print("back end        {} ({})\n", r["backend"].get<std::string>(), r["backend_reason"].get<std::string>());
   if (const std::string note = r["fmm_order_warning"]; !note.empty()) fmt::print("warning         {}\n", note);
+  if (r.contains("viscosity_ratio")) {
+    const nlohmann::json& vr = r["viscosity_ratio"];
+    fmt::print("viscosity ratio λ = {:g}: (1 + λ)/2 u + (1 − λ) D[u] = v∞ − S[q] at every evaluation, the double layer "
+               "weighted by (1 − λ)/(1 + λ) = {:.4g}; deflated GMRES to fluid.tolerance, warm-started "
+               "(docs/boundary-integral.md §4.8)\n",
+               num(vr["lambda"]), num(vr["kappa"]));
+    fmt::print("  cost          per evaluation: the single layer, one double-layer set-up (a far-field pass and the "
+               "near-field blocks, {:.0f} MB) and GMRES iterations (1–3 warm-started, ≤ 10 cold, at most "
+               "fluid.max_gmres = {}; docs/boundary-integral.md §4.8.3) of one double-layer far-field sum and one "
+               "sparse product each\n",
+               num(vr["near_field_mb"]), vr["max_gmres"].get<int>());
+    fmt::print("  double layer  far field summed directly ({}): O(N²) per GMRES iteration, whatever fluid.backend says, "
+               "until the double-layer FMM lands\n",
+               vr["double_layer_backend_reason"].get<std::string>());
+  }
   const nlohmann::json& se = r["stable_dt"];
   fmt::print("stable dt       {:.3e} at t = 0 for Heun (membrane {:.3e}, bending {:.3e}, flow cap {:.3e}; limited by {})\n",
              num(se["limit"]), num(se["membrane"]), num(se["bending"]), num(se["flow"]), se["limited_by"].get<std::string>());
@@ -57,8 +72,13 @@ int info_command(const InfoOptions& opt) {
     fmt::print("spectral radius {:.3e} by power iteration ({} evaluations{}; × {:g} margin), analytic {:.3e} (ratio {:.2f})\n",
                num(rho["value"]), rho["evaluations"].get<long>(), rho["converged"].get<bool>() ? "" : ", NOT converged",
                num(rho["margin"]), num(rho["analytic"]), num(rho["value"]) / num(rho["analytic"]));
-    fmt::print("evaluation      {:.3g} s per right-hand-side evaluation (measured, {} threads)\n", num(r["seconds_per_evaluation"]),
-               r["threads"].get<int>());
+    const bool second_kind = r.contains("viscosity_ratio");
+    fmt::print("evaluation      {:.3g} s per right-hand-side evaluation (measured, {} threads{})\n", num(r["seconds_per_evaluation"]),
+               r["threads"].get<int>(), second_kind ? "; with 2 GMRES iterations" : "");
+    if (second_kind)
+      fmt::print("double layer    set-up {:.3g} s, {:.3g} s per GMRES iteration; the first, cold solve took {} iterations\n",
+                 num(r["viscosity_ratio"]["setup_seconds"]), num(r["viscosity_ratio"]["seconds_per_iteration"]),
+                 r["viscosity_ratio"]["cold_iterations"].get<long>());
   } else {
     fmt::print("spectral radius {:.3e} analytic (from the calibrated Heun limit; --probe measures it)\n", num(rho["analytic"]));
   }

@@ -177,7 +177,13 @@ void Simulation::write_checkpoint(const std::filesystem::path& path) { impl_->wr
 int Simulation::finish() {
   Impl& s = *impl_;
   const StopReason reason = s.stopped.value_or(StopReason(StopKind::TEnd));
-  if (s.last_output_t != s.st.t) s.write_output();
+  if (s.last_output_t != s.st.t) {
+    try {
+      s.write_output();
+    } catch (const SolverFailure& e) {  // the state's own evaluation failed (again: the stop's cause); no row
+      spdlog::error("no output row at t = {:g}: {}", s.st.t, e.what());
+    }
+  }
   s.write_checkpoint(s.folder / io::kCheckpointFile);
   s.report_progress(true);
   const nlohmann::json timing = s.timing_table();

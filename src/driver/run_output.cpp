@@ -2,6 +2,9 @@
 // checkpoints (docs/scene-and-output.md §3).
 #include <fmt/core.h>
 
+#include <cmath>
+#include <limits>
+
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/profiles.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
@@ -48,7 +51,9 @@ void Simulation::Impl::write_output() {
   const SurfaceMesh cur{st.x, ref.triangles};
   last_shape = shape_diagnostics(cur);
   const auto& s = last_shape;
-  state_velocity();
+  last_plane_shape = in_plane_shape(cur, plane);
+  last_tank_treading = tank_treading->update(cur, st.t);
+  state_velocity();  // may throw SolverFailure: the shapes above are the state's all the same
   far_check->update(dyn->single_layer(), st.t);
   const shell::WallEnergies en = dyn->wall().energies(st.x);
   io::NamedFields fields;
@@ -71,6 +76,19 @@ void Simulation::Impl::write_output() {
                     {"steady_measure", steady->measure()}, {"wall_seconds", wall_seconds()}};
   for (const auto& [name, value] : health->columns()) row.emplace_back(name, value);
   far_check->append_columns(row);  // fluid.verify_every > 0 only
+  // In the flow plane (docs/conventions.md §5.6): θ in degrees, the rotation rate per unit γ̇t.
+  row.insert(row.end(), {{"D_flow", last_plane_shape.D}, {"theta", last_plane_shape.theta * 180 / M_PI},
+                         {"tank_treading", last_tank_treading}});
+  if (dyn->viscosity_ratio_solver()) {  // λ ≠ 1: GMRES iterations per evaluation since the previous row
+    const RhsCounters& n = dyn->counters();
+    const long evals = n.evaluations - output_mark.evaluations;
+    const double per_eval = evals > 0 ? static_cast<double>(n.gmres_iterations - output_mark.gmres_iterations) /
+                                             static_cast<double>(evals)
+                                       : std::numeric_limits<double>::quiet_NaN();
+    row.emplace_back("gmres_per_eval", per_eval);
+    if (per_eval > st.gmres_per_eval_max) st.gmres_per_eval_max = per_eval;
+  }
+  output_mark = dyn->counters();
   out->append_row(row);
   last_output_t = st.t;
 }

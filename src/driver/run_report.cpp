@@ -65,13 +65,15 @@ nlohmann::json Simulation::Impl::timing_table() const {
   }
   phases[kPhaseNames[static_cast<std::size_t>(Phase::Other)]] = std::max(0.0, total - known);
   cpu[kPhaseNames[static_cast<std::size_t>(Phase::Other)]] = std::max(0.0, total_cpu - known_cpu);
-  return {{"total_seconds", total}, {"total_cpu_seconds", total_cpu}, {"threads", threads},
+  nlohmann::json table = {{"total_seconds", total}, {"total_cpu_seconds", total_cpu}, {"threads", threads},
           {"steps", steps_this_segment}, {"rhs_evaluations", n.evaluations},
           {"seconds_per_evaluation", n.evaluations ? total / static_cast<double>(n.evaluations) : 0},
           {"seconds_per_step", steps_this_segment ? total / static_cast<double>(steps_this_segment) : 0},
           {"phases", phases}, {"cpu_seconds", cpu},
           {"iterations", {{"newton", n.newton_iterations}, {"rotation_cg", n.cg_iterations}, {"mass_cg", n.mass_cg_iterations},
                           {"rotation_fresh_starts", n.rotation_fresh_starts}}}};
+  if (dyn->viscosity_ratio_solver()) table["iterations"]["gmres"] = n.gmres_iterations;
+  return table;
 }
 
 // summary.json without stop_reason and timing (Simulation::finish adds them).
@@ -91,6 +93,16 @@ nlohmann::json Simulation::Impl::summary() const {
       {"rejected_steps", st.rejected_steps}};
   stepper->summarize(summary, st.x, st.step);
   summary["health"] = health->summary();
+  // The flow-plane observables at the last output (docs/conventions.md §5.6; θ in degrees).
+  summary["D_flow"] = last_plane_shape.D;
+  summary["theta"] = last_plane_shape.theta * 180 / M_PI;
+  summary["tank_treading"] = std::isfinite(last_tank_treading) ? nlohmann::json(last_tank_treading) : nlohmann::json();
+  if (dyn->viscosity_ratio_solver()) {
+    summary["viscosity_ratio"] = {{"lambda", scene.fluid.viscosity_ratio},
+                                  {"gmres_per_eval_max", st.gmres_per_eval_max},
+                                  {"double_layer_backend", to_string(dyn->viscosity_ratio_solver()->double_layer().backend())},
+                                  {"double_layer_backend_reason", dyn->viscosity_ratio_solver()->double_layer().backend_reason()}};
+  }
   if (far_check->enabled()) summary["far_field_check"] = far_check->summary(dyn->single_layer());
   summary["peak_rss_mb"] = peak_rss_mb();
   summary["run_id"] = run_id;

@@ -30,6 +30,8 @@ void Simulation::Impl::set_up() {
   instability = InstabilityWatch(scene.fluid.volume_correction ? InstabilityWatch::Volume::Corrected
                                                                : InstabilityWatch::Volume::Uncorrected);
   far_check = std::make_unique<FarFieldWatch>(scene.fluid.verify_every, scene.fluid.tolerance);
+  plane = flow_plane(scene.flow.gradient);
+  tank_treading = std::make_unique<TankTreadingMeter>(plane);
   if (!opt.restart.empty()) {
     restore(ck);
   } else {
@@ -51,12 +53,19 @@ void Simulation::Impl::set_up() {
   if (opt.restart.empty()) observe_health();  // the reference state: no episode can begin here
   effort_mark = dyn->counters();
   if (opt.restart.empty() || restart.new_folder) {
-    write_output();
+    try {
+      write_output();
+    } catch (const SolverFailure& e) {  // the first evaluation failed: the run stops before its first step
+      spdlog::error("{}", stop(StopReason(StopKind::SolverFailure, fmt::format("{} at t = {:g}", e.what(), st.t)))->to_string());
+    }
     // A checkpoint as soon as the run starts: a run stopped by a full disk (or a file-size limit)
     // before its first periodic one still leaves a state to continue from.
     write_checkpoint(folder / io::kCheckpointFile);
   } else {
-    last_shape = shape_diagnostics(SurfaceMesh{st.x, ref.triangles});
+    const SurfaceMesh cur{st.x, ref.triangles};
+    last_shape = shape_diagnostics(cur);
+    last_plane_shape = in_plane_shape(cur, plane);
+    tank_treading->update(cur, st.t);  // the rate of the next row is measured from here
   }
   t_segment_start = st.t;
 }

@@ -6,7 +6,7 @@ namespace capsflow {
 nlohmann::json RunState::extra() const {
   return {{"next_output", next_output}, {"next_checkpoint", next_checkpoint}, {"volume0", volume0},
           {"area0", area0}, {"wall_seconds", wall_seconds_before}, {"rejected_steps", rejected_steps},
-          {"rhs_evaluations", rhs_evaluations}};
+          {"rhs_evaluations", rhs_evaluations}, {"gmres_per_eval_max", gmres_per_eval_max}};
 }
 
 void RunState::set_extra(const nlohmann::json& e) {
@@ -18,6 +18,7 @@ void RunState::set_extra(const nlohmann::json& e) {
   // Written since the RKC integrator (absent in older checkpoints: zero).
   rejected_steps = e.value("rejected_steps", 0L);
   rhs_evaluations = e.value("rhs_evaluations", 0L);
+  gmres_per_eval_max = e.value("gmres_per_eval_max", 0.0);  // since fluid.viscosity_ratio
 }
 
 }  // namespace capsflow

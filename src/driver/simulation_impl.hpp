@@ -4,6 +4,7 @@
 // Progress line, timing table, summary.json: run_report.cpp. RunState: run_state.cpp.
 #include <atomic>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +15,7 @@
 #include "capsflow/core/driver/restart_rules.hpp"
 #include "capsflow/core/driver/simulation.hpp"
 #include "capsflow/core/driver/stop_reason.hpp"
+#include "capsflow/core/geometry/flow_plane.hpp"
 #include "capsflow/core/geometry/shape_diagnostics.hpp"
 #include "capsflow/core/health/health_monitor.hpp"
 #include "capsflow/core/health/instability_watch.hpp"
@@ -39,6 +41,7 @@ struct RunState {
   double wall_seconds_before = 0;  // wall time of earlier (restarted) segments
   long rejected_steps = 0;         // steps retried with a smaller step (all segments)
   long rhs_evaluations = 0;        // right-hand-side evaluations of earlier segments
+  double gmres_per_eval_max = 0;   // λ ≠ 1: the largest gmres_per_eval of a timeseries row (all segments)
   nlohmann::json extra() const;    // the checkpoint's "extra" entries of the run itself
   void set_extra(const nlohmann::json& e);
 };
@@ -105,6 +108,13 @@ struct Simulation::Impl {
   double t_segment_start = 0;
   double last_output_t = -1;
   ShapeDiagnostics last_shape;
+  // The flow-plane observables of every row (geometry/flow_plane.hpp): in-plane shape and the
+  // membrane's rotation rate since the previous row (NaN on a segment's first row).
+  FlowPlane plane;
+  std::unique_ptr<TankTreadingMeter> tank_treading;
+  InPlaneShape last_plane_shape;
+  double last_tank_treading = std::numeric_limits<double>::quiet_NaN();
+  RhsCounters output_mark;  // the right-hand side's counters at the last row (gmres_per_eval)
   Points x_prev, v_out;
   Eigen::VectorXd wall_prev;
 };

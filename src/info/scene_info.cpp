@@ -3,6 +3,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -53,6 +54,16 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   run["backend"] = to_string(b);
   run["backend_reason"] = why;
   run["fmm_order_warning"] = unused_fmm_order_note(scene, b);
+  if (scene.fluid.viscosity_ratio != 1.0) {
+    // The second-kind solve (docs/boundary-integral.md §4.8); its near-field lists depend on the geometry only.
+    SingleLayerOptions dl_options;
+    dl_options.geometry = scene.fluid.geometry;
+    const DoubleLayer dl(mesh.triangles, mesh.num_nodes(), dl_options);
+    const double lambda = scene.fluid.viscosity_ratio;
+    run["viscosity_ratio"] = {{"lambda", lambda}, {"kappa", (1 - lambda) / (1 + lambda)},
+                              {"near_field_mb", dl.near_field_megabytes()}, {"max_gmres", scene.fluid.max_gmres},
+                              {"double_layer_backend", to_string(dl.backend())}, {"double_layer_backend_reason", dl.backend_reason()}};
+  }
   const StabilityEstimate se = stability_estimate(scene, st.edge_min);
   run["stable_dt"] = {{"limit", se.limit()}, {"membrane", se.membrane}, {"bending", se.bending}, {"flow", se.flow},
                       {"limited_by", se.limiting()}};
@@ -66,9 +77,19 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     CapsuleDynamics dyn(scene, mesh);
     Points v;
     dyn.velocity(mesh.vertices, v);  // first call: rotation solve from the reference, FMM set-up
+    const long cold_iterations = dyn.counters().gmres_iterations;
     Stopwatch clock;
     dyn.velocity(mesh.vertices, v);
     seconds_per_eval = clock.seconds();
+    if (const ViscosityRatioSolver* vr = dyn.viscosity_ratio_solver()) {
+      // The repeated state needs no GMRES iteration; a run's evaluations take 1–3 (§4.8.3): count 2.
+      const DoubleLayer& dl = vr->double_layer();
+      const double per_iteration = dl.apply_seconds() / static_cast<double>(std::max(1L, dl.applications()));
+      seconds_per_eval += static_cast<double>(std::max(0L, 2 - (dyn.counters().gmres_iterations - cold_iterations))) * per_iteration;
+      run["viscosity_ratio"]["setup_seconds"] = dl.setup_seconds() / static_cast<double>(std::max(1L, dl.setups()));
+      run["viscosity_ratio"]["seconds_per_iteration"] = per_iteration;
+      run["viscosity_ratio"]["cold_iterations"] = cold_iterations;
+    }
     SpectralRadiusEstimator power;
     const SpectralRadiusEstimator::Result r = power.estimate(dyn, mesh.vertices, v);
     rho = kSpectralRadiusMargin * r.sigma;

@@ -27,7 +27,15 @@ CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& referenc
       tri_(reference.triangles),
       wall_(wall ? std::move(wall) : make_wall(scene, reference)),
       mass_(reference.triangles, reference.num_nodes()),
-      bie_(reference.triangles, reference.num_nodes(), bie_options(scene, threads)) {}
+      bie_(reference.triangles, reference.num_nodes(), bie_options(scene, threads)) {
+  if (scene.fluid.viscosity_ratio != 1.0) {
+    GmresOptions go;
+    go.tolerance = scene.fluid.tolerance;  // the far field's promise, relative to the velocity (§4.8.3)
+    go.max_iterations = scene.fluid.max_gmres;
+    viscosity_ = std::make_unique<ViscosityRatioSolver>(reference.triangles, reference.num_nodes(),
+                                                        scene.fluid.viscosity_ratio, bie_options(scene, threads), go);
+  }
+}
 
 PhaseTimes CapsuleDynamics::times() const {
   PhaseTimes t = times_;
@@ -35,7 +43,7 @@ PhaseTimes CapsuleDynamics::times() const {
   return t;
 }
 
-void CapsuleDynamics::velocity(const Points& x, Points& v) {
+void CapsuleDynamics::velocity(const Points& x, Points& v, bool probe) {
   Stopwatch clock;
   for (int attempt = 0;; ++attempt) {
     wall_->forces(x, R_, &last_stats_);
@@ -62,10 +70,18 @@ void CapsuleDynamics::velocity(const Points& x, Points& v) {
 
   clock.restart();
   v.noalias() = x * L_.transpose() - u_;  // v = v∞ − S[q], v∞ = L x (paper Eq. 34)
-  if (volume_correction_) {
-    volume_gradient(x, tri_, nodal_area_normal_);
-    remove_normal_flux(nodal_area_normal_, v);
+  if (viscosity_ || volume_correction_) volume_gradient(x, tri_, nodal_area_normal_);
+  if (viscosity_) {  // λ ≠ 1: v∞ − S[q] is the right-hand side of the second-kind equation
+    clock.lap(times_, Phase::Other);
+    const ViscosityRatioStats st = viscosity_->solve(x, nodal_area_normal_, v, w_, probe);
+    clock.lap(times_, Phase::BieSecondKind);
+    counters_.gmres_iterations += st.iterations;
+    if (!st.converged)
+      throw SolverFailure(fmt::format("viscosity-ratio GMRES did not converge (relative residual {:.1e} after {} "
+                                      "iterations)", st.residual, st.iterations));
+    v.swap(w_);
   }
+  if (volume_correction_) remove_normal_flux(nodal_area_normal_, v);
   clock.lap(times_, Phase::Other);
   ++counters_.evaluations;
   if (!v.allFinite()) throw SolverFailure("non-finite velocity");

@@ -140,7 +140,8 @@ Key<Spec> numeric(std::string name, T Spec::*m, T def, Range<T> range, std::stri
                                  std::move(meaning));
   k.set_default = [m, def](Spec& s) { s.*m = def; };
   k.read = [m, range, name](const TomlReader& r, const std::string& sec, Spec& s) {
-    const auto v = is_double ? r.number(sec, name) : std::optional<double>();
+    const auto v = is_double ? r.number(sec, name, range.must() + (range.why.empty() ? "" : " (" + range.why + ")"))
+                             : std::optional<double>();
     const auto i = is_double ? std::optional<std::int64_t>() : r.integer(sec, name);
     if (v || i) {
       if (v ? !range.contains(*v) : !range.contains(*i)) r.fail(sec, name, v ? range.out_of_range(*v) : range.out_of_range(*i));

@@ -49,14 +49,14 @@ const toml::node* TomlReader::find(const std::string& section, const std::string
   return sec->as_table()->get(key);
 }
 
-std::optional<double> TomlReader::number(const std::string& s, const std::string& k) const {
+std::optional<double> TomlReader::number(const std::string& s, const std::string& k, const std::string& accepted) const {
   const toml::node* n = find(s, k);
   if (!n) return std::nullopt;
   double v = 0;
   if (n->is_integer()) v = static_cast<double>(n->as_integer()->get());
   else if (n->is_floating_point()) v = n->as_floating_point()->get();
   else fail(s, k, "expected a number, got " + type_name(*n));
-  if (!std::isfinite(v)) fail(s, k, "must be finite");
+  if (!std::isfinite(v)) fail(s, k, "must be finite" + (accepted.empty() ? std::string() : " and " + accepted));
   return v;
 }
 

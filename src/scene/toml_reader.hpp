@@ -29,7 +29,8 @@ class TomlReader {
   bool has(const std::string& section, const std::string& key) const { return find(section, key) != nullptr; }
 
   // Each returns nothing when the key is absent and throws on a value of the wrong type.
-  std::optional<double> number(const std::string& section, const std::string& key) const;  // finite
+  // Finite; otherwise fails with "must be finite" and, when given, " and <accepted>" (the key's range).
+  std::optional<double> number(const std::string& section, const std::string& key, const std::string& accepted = {}) const;
   std::optional<std::int64_t> integer(const std::string& section, const std::string& key) const;
   std::optional<bool> boolean(const std::string& section, const std::string& key) const;
   std::optional<std::string> string(const std::string& section, const std::string& key) const;

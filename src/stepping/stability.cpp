@@ -26,12 +26,15 @@ double area_to_shear_modulus_ratio(const Scene& s) {
 StabilityEstimate stability_estimate(const Scene& s, double dx) {
   StabilityEstimate e;
   const double ca = s.flow.ca_s;
-  e.membrane = kMembraneConstant / (1.0 + area_to_shear_modulus_ratio(s)) * ca * dx;
+  // The mesh-scale modes see a locally flat wall, where the double layer vanishes: their
+  // relaxation rates are 2/(1 + λ) times those at λ = 1 (docs/time-integration.md §5.2.4).
+  const double viscosity = 0.5 * (1.0 + s.fluid.viscosity_ratio);
+  e.membrane = viscosity * kMembraneConstant / (1.0 + area_to_shear_modulus_ratio(s)) * ca * dx;
   e.bending = std::numeric_limits<double>::infinity();
   if (s.wall.model == WallModel::Gsmb) {
     const double a = s.wall.thickness, nu = s.wall.poisson;
     const double gs_over_b = 6.0 * (1.0 - nu) / (a * a);
-    e.bending = kBendingConstant * gs_over_b * ca * dx * dx * dx;
+    e.bending = viscosity * kBendingConstant * gs_over_b * ca * dx * dx * dx;
   }
   const double rate = s.flow.gradient.norm();
   e.flow = rate > 0 ? kFlowCap / rate : std::numeric_limits<double>::infinity();

@@ -41,6 +41,7 @@ std::vector<std::string> split(const std::string& line) {
   std::stringstream ss(line);
   std::string cell;
   while (std::getline(ss, cell, ',')) out.push_back(cell);
+  if (!line.empty() && line.back() == ',') out.emplace_back();  // an empty last field (a rate not defined yet)
   return out;
 }
 

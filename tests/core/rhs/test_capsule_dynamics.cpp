@@ -12,6 +12,7 @@
 #include "capsflow/core/geometry/shape_diagnostics.hpp"
 #include "capsflow/core/stepping/stability.hpp"
 #include "capsflow/core/mesh/stats.hpp"
+#include "capsflow/core/theory/small_deformation.hpp"
 
 using namespace capsflow;
 
@@ -203,4 +204,69 @@ TEST(Dynamics, MooneyRivlinWallFromTheSceneStoresTheThinSheetEnergy) {
     // Round-off of a sum over 320 facets: 1e-12 relative.
     EXPECT_NEAR(dyn.wall().energies(x).total(), area * ws, 1e-12 * area * ws) << "Psi = " << psi;
   }
+}
+
+// Viscosity ratio λ ≠ 1 through the whole right-hand side: the unloaded sphere (reference state,
+// zero load) in a linear flow moves as a drop without interfacial tension, u = Ω x + 5/(2λ + 3) E x
+// exactly for the sphere at any λ (docs/small-deformation.md §5.2, theory/small_deformation.hpp).
+TEST(Dynamics, UnloadedSphereWithViscousInsideMovesAsTheTensionlessDrop) {
+  for (const char* flow : {"simple_shear", "planar_hyperbolic"})
+    for (double lambda : {0.2, 5.0, 100.0}) {
+      const Scene s = scene_with({"mesh.level=3", "mesh.shape=\"sphere\"", "wall.model=\"membrane\"", "wall.law=\"nh\"",
+                                  std::string("flow.type=\"") + flow + "\"", "fluid.viscosity_ratio=" + std::to_string(lambda)});
+      const SurfaceMesh ref = make_reference_mesh(s.mesh);
+      CapsuleDynamics dyn(s, ref);
+      ASSERT_NE(dyn.viscosity_ratio_solver(), nullptr);
+      Points v;
+      dyn.velocity(ref.vertices, v);
+      Points exact(v.rows(), 3);
+      for (Eigen::Index i = 0; i < v.rows(); ++i)
+        exact.row(i) = theory::initial_surface_velocity(s.flow.gradient, lambda, ref.vertices.row(i).transpose()).transpose();
+      // Relative to the imposed flow's scale (at λ = 100 the strain part is only 5/203 of it).
+      const double scale = (ref.vertices * s.flow.gradient.transpose()).rowwise().norm().maxCoeff();
+      const double err = (v - exact).rowwise().norm().maxCoeff() / scale;
+      // Measured 8.8e-5 (λ = 100) … 5.8e-3 (λ = 0.2, planar hyperbolic): the level-3 (1 280 elements) O(h²) error
+      // of the double layer (1.2e-3 … 5e-3 per mode, docs/boundary-integral.md §4.7.4), scaled by (1 + κ) ≤ 2.
+      EXPECT_LT(err, 1e-2) << flow << " lambda " << lambda;
+      // A cold start on the sphere: the spectrum lies in [0.4, 1.2] (§4.8.2); measured 3–4.
+      EXPECT_LE(dyn.counters().gmres_iterations, 8) << flow << " lambda " << lambda;
+    }
+}
+
+TEST(Dynamics, ViscosityRatioOneKeepsTheSingleLayerPath) {
+  // λ = 1 builds no double layer and counts no GMRES iteration: the code path of a scene without the key.
+  const Scene s = scene_with({"mesh.level=2", "fluid.viscosity_ratio=1"});
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  CapsuleDynamics dyn(s, ref);
+  EXPECT_EQ(dyn.viscosity_ratio_solver(), nullptr);
+  Points x = ref.vertices * 1.01, v;
+  dyn.velocity(x, v);
+  EXPECT_EQ(dyn.counters().gmres_iterations, 0);
+}
+
+// EvaluationHint::Role::Probe reaches the second-kind solve: a spectral-radius probe off the
+// trajectory leaves the GMRES warm start of the trajectory alone (docs/boundary-integral.md §4.8.3).
+// Re-evaluating a trajectory state right after it needs no iteration (the warm start is its
+// solution); after a probe that had moved the warm start it would need some — the control case.
+TEST(Dynamics, AProbeLeavesTheViscosityRatioWarmStartAlone) {
+  const Scene s = scene_with({"mesh.level=2", "mesh.shape=\"sphere\"", "wall.model=\"membrane\"", "wall.law=\"nh\"",
+                              "fluid.viscosity_ratio=5"});
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  Points x = ref.vertices, far = ref.vertices;
+  x.col(0) *= 1.05;    // a loaded state on the trajectory
+  far.col(1) *= 1.10;  // a probe point well away from it
+  auto iterations_at = [](CapsuleDynamics& dyn, const Points& p, EvaluationHint::Role role) {
+    const long before = dyn.counters().gmres_iterations;
+    Points v;
+    dyn.evaluate(p, v, {role, 0});
+    return dyn.counters().gmres_iterations - before;
+  };
+  CapsuleDynamics dyn(s, ref);
+  ASSERT_GT(iterations_at(dyn, x, EvaluationHint::Role::Trajectory), 0);  // cold start
+  EXPECT_EQ(iterations_at(dyn, x, EvaluationHint::Role::Trajectory), 0);  // same state: its own solution
+  EXPECT_GT(iterations_at(dyn, far, EvaluationHint::Role::Probe), 0);
+  EXPECT_EQ(iterations_at(dyn, x, EvaluationHint::Role::Trajectory), 0);  // the probe changed nothing
+  // Control: the same point evaluated as a trajectory stage moves the warm start.
+  EXPECT_GT(iterations_at(dyn, far, EvaluationHint::Role::Trajectory), 0);
+  EXPECT_GT(iterations_at(dyn, x, EvaluationHint::Role::Trajectory), 0);
 }

@@ -162,6 +162,22 @@ TEST(SceneErrors, OutOfRangeNamesTheValueAndTheRange) {
   EXPECT_EQ(set.rfind("--set time.dt_safety: 0.9 is out of range: must be in [0.001, 0.8] (0.8: the largest", 0), 0u) << set;
 }
 
+// fluid.viscosity_ratio (issue 24): λ > 0 and finite; the message names the value and the range.
+TEST(SceneErrors, ViscosityRatioOutsideItsRangeIsRefused) {
+  for (const char* v : {"0", "-1", "1e-7", "2e6"}) {
+    const std::string e = error_of(std::string("[fluid]\nviscosity_ratio = ") + v + "\n");
+    EXPECT_NE(e.find(std::string("fluid.viscosity_ratio: ") + v + " is out of range: must be in [1e-6, 1e6]"), std::string::npos) << e;
+  }
+  for (const char* v : {"nan", "inf", "-inf"}) {  // not a number to print: finiteness, then the range
+    const std::string e = error_of(std::string("[fluid]\nviscosity_ratio = ") + v + "\n");
+    EXPECT_NE(e.find("fluid.viscosity_ratio: must be finite and in [1e-6, 1e6]"), std::string::npos) << v << ": " << e;
+  }
+  EXPECT_NE(error_of("", {"fluid.viscosity_ratio=0"}).find("--set fluid.viscosity_ratio: 0 is out of range"), std::string::npos);
+  EXPECT_EQ(parse_scene(default_scene_toml(), "d").fluid.viscosity_ratio, 1.0);  // default: today's path
+  EXPECT_EQ(parse_scene("[fluid]\nviscosity_ratio = 0.2\n", "s").fluid.viscosity_ratio, 0.2);
+  EXPECT_NE(error_of("[fluid]\nmax_gmres = 0\n").find("fluid.max_gmres: 0 is out of range: must be in [1, 10000]"), std::string::npos);
+}
+
 TEST(SceneErrors, InconsistentKeys) {
   EXPECT_NE(error_of("[flow]\nca_s = 0.1\nca_v = 0.003\n").find("either flow.ca_s or flow.ca_v"), std::string::npos);
   EXPECT_NE(error_of("[flow]\ntype = \"linear\"\n").find("flow.gradient: required"), std::string::npos);

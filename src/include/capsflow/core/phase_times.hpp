@@ -22,11 +22,12 @@ enum class Phase : std::size_t {
   BieFar,      // far field: FMM (setup + evaluation) or direct summation
   BieNear,     // exact local integrals replacing the far field near each node
   BieVerify,   // direct re-summation of the far field to check it (fluid.verify_every)
+  BieSecondKind,  // viscosity ratio λ ≠ 1: the double layer's set-up and the deflated GMRES solve
   Other,       // flow, updates, volume correction
   Count
 };
 inline constexpr std::array<const char*, static_cast<std::size_t>(Phase::Count)> kPhaseNames = {
-    "wall_rotations_and_forces", "load_mass_solve", "bie_sources", "bie_far", "bie_near", "bie_verify", "other"};
+    "wall_rotations_and_forces", "load_mass_solve", "bie_sources", "bie_far", "bie_near", "bie_verify", "bie_second_kind", "other"};
 
 class PhaseTimes {
  public:

@@ -6,6 +6,9 @@
 // Σ_e A_e n_e·(v0+v1+v2)/3 — exactly dV/dt of the polyhedron — is zero (volume_constraint.hpp):
 // the O(h²) flux error of the P1 boundary integral (docs/time-integration.md §5.3) no longer
 // accumulates into volume drift.
+// With fluid.viscosity_ratio λ ≠ 1, v∞ − S[q] is the right-hand side of the second-kind equation
+// (1 + λ)/2 u + (1 − λ) D[u] = v∞ − S[q] (bie/viscosity_ratio.hpp), solved before the volume
+// correction; λ = 1 skips it (the same code path and numbers as without the key).
 // Rotations are a slave variable (argmin of the bending + shear energy at given x): they are not
 // integrated in time. Time schemes (stepping/) call it through RightHandSide::evaluate.
 //
@@ -16,6 +19,7 @@
 #include <memory>
 
 #include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/bie/viscosity_ratio.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/right_hand_side.hpp"
 #include "capsflow/core/scene/scene.hpp"
@@ -29,6 +33,7 @@ struct RhsCounters {
   long evaluations = 0;
   long newton_iterations = 0, cg_iterations = 0, mass_cg_iterations = 0;
   long rotation_fresh_starts = 0;  // Newton solves retried from the nodal normals
+  long gmres_iterations = 0;       // λ ≠ 1: double-layer applications of the second-kind solves
 };
 
 class CapsuleDynamics final : public RightHandSide {
@@ -38,13 +43,18 @@ class CapsuleDynamics final : public RightHandSide {
                   std::unique_ptr<shell::Wall> wall = nullptr);
 
   // v(x) and, as by-products, the load q and R_s of this evaluation. Throws SolverFailure.
-  void velocity(const Points& x, Points& v);
-  void evaluate(const Points& x, Points& v, const EvaluationHint&) override { velocity(x, v); }
+  // probe: a point off the trajectory (a spectral-radius probe): inner warm starts stay as they are.
+  void velocity(const Points& x, Points& v, bool probe = false);
+  void evaluate(const Points& x, Points& v, const EvaluationHint& hint) override {
+    velocity(x, v, hint.role == EvaluationHint::Role::Probe);
+  }
 
   const Points& load() const { return q_; }
   shell::Wall& wall() { return *wall_; }
   const shell::Wall& wall() const { return *wall_; }
   const SingleLayer& single_layer() const { return bie_; }
+  // The second-kind solve (λ ≠ 1), or null.
+  const ViscosityRatioSolver* viscosity_ratio_solver() const { return viscosity_.get(); }
   // Seconds per phase, the boundary integral's phases included.
   PhaseTimes times() const;
   const RhsCounters& counters() const { return counters_; }
@@ -57,7 +67,8 @@ class CapsuleDynamics final : public RightHandSide {
   std::unique_ptr<shell::Wall> wall_;
   shell::LoadRecovery mass_;
   SingleLayer bie_;
-  Points R_, q_, u_, nodal_area_normal_;  // scratch, reused across calls
+  std::unique_ptr<ViscosityRatioSolver> viscosity_;  // λ ≠ 1 only
+  Points R_, q_, u_, w_, nodal_area_normal_;          // scratch, reused across calls
   PhaseTimes times_;                      // wall, load, other (the BIE keeps its own)
   RhsCounters counters_;
   shell::WallStats last_stats_;

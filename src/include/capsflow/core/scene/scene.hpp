@@ -72,6 +72,8 @@ struct TimeSpec {
 
 struct FluidSpec {
   FluidSpec();
+  double viscosity_ratio;        // λ = inner/outer viscosity; 1: the single layer alone (bie/viscosity_ratio.hpp)
+  int max_gmres;                 // λ ≠ 1: iteration cap of the second-kind GMRES solve
   BackendRequest backend;
   double tolerance;              // far-field relative accuracy (FMM order; direct: single-precision pairs from 1e-5)
   SurfaceGeometry geometry;      // surface seen by the boundary integral (bie/single_layer.hpp)
