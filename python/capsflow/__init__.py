@@ -1,6 +1,6 @@
 """capsflow: an elastic capsule freely suspended in Stokes flow, from Python (docs/python.md).
 
-    capsflow.fmm                      Stokeslet sums on numpy arrays (FMM and direct)
+    capsflow.fmm                      Stokeslet and stresslet sums on numpy arrays (FMM and direct)
     capsflow.Scene                    a scene: from a file, TOML text or a dict; set(key, value); to_toml()
     capsflow.run(scene, out)          a run, as `capsflow run` (same folder); the results as a RunFolder
     capsflow.Simulation(scene, out)   a run step by step: step(), t, positions, velocity(), checkpoint(path)

@@ -1,4 +1,7 @@
-"""Point sets and the error measure of the FMM tests (the distributions of tests/fmm/points.hpp)."""
+"""Point sets, the error measure and the traced memory of the FMM tests (the distributions of
+tests/fmm/points.hpp)."""
+import tracemalloc
+
 import numpy as np
 
 
@@ -26,3 +29,15 @@ def forces(n: int, seed: int) -> np.ndarray:
 def rel_l2(u: np.ndarray, ref: np.ndarray) -> float:
     """The FMM's accuracy measure (fmm/README.md): ‖u − ref‖₂ / ‖ref‖₂ over all targets."""
     return float(np.linalg.norm(u - ref) / np.linalg.norm(ref))
+
+
+def traced_peak(call) -> int:
+    """Peak of the memory traced by tracemalloc (numpy arrays included) during `call`."""
+    tracemalloc.start()
+    try:
+        base = tracemalloc.get_traced_memory()[0]
+        tracemalloc.reset_peak()
+        call()
+        return tracemalloc.get_traced_memory()[1] - base
+    finally:
+        tracemalloc.stop()

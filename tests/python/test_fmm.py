@@ -3,13 +3,12 @@ FMM object, and that C-contiguous float64 input is read in place."""
 import math
 import threading
 import time
-import tracemalloc
 
 import numpy as np
 import pytest
 
 from capsflow import fmm
-from points import forces, make_points, rel_l2
+from points import forces, make_points, rel_l2, traced_peak
 
 
 @pytest.mark.parametrize("tolerance", [1e-3, 1e-6, 1e-8])
@@ -88,18 +87,6 @@ def test_lists_and_non_contiguous_arrays_give_the_same_result():
     assert np.array_equal(fmm.stokeslet_direct(wide[:, ::2], f), ref)
 
 
-def _traced_peak(call) -> int:
-    """Peak of the memory traced by tracemalloc (numpy arrays included) during `call`."""
-    tracemalloc.start()
-    try:
-        base = tracemalloc.get_traced_memory()[0]
-        tracemalloc.reset_peak()
-        call()
-        return tracemalloc.get_traced_memory()[1] - base
-    finally:
-        tracemalloc.stop()
-
-
 def test_c_contiguous_float64_input_is_not_copied():
     n = 100_000
     src, f = make_points("sphere", n, 13), forces(n, 14)
@@ -112,10 +99,10 @@ def test_c_contiguous_float64_input_is_not_copied():
 
     # the only array the call makes is its output (C++ allocations are not traced); a copy of
     # any (N, 3) input would add another out_bytes. 0.25·out_bytes of slack for small objects
-    assert _traced_peak(lambda: move_and_evaluate(src, f)) < 1.25 * out_bytes
-    assert _traced_peak(lambda: fmm.stokeslet(src, f, tolerance=1e-3)) < 1.25 * out_bytes
+    assert traced_peak(lambda: move_and_evaluate(src, f)) < 1.25 * out_bytes
+    assert traced_peak(lambda: fmm.stokeslet(src, f, tolerance=1e-3)) < 1.25 * out_bytes
     # the check can fail: Fortran-ordered points are copied into C order, and that copy shows
-    assert _traced_peak(lambda: move_and_evaluate(np.asfortranarray(src), f)) >= 2 * out_bytes
+    assert traced_peak(lambda: move_and_evaluate(np.asfortranarray(src), f)) >= 2 * out_bytes
 
 
 def test_the_gil_is_released_during_a_sum():

@@ -12,6 +12,11 @@ CALLS = {
     "stokeslet": lambda s, f, t=None: fmm.stokeslet(s, f, t),
     "stokeslet_direct": lambda s, f, t=None: fmm.stokeslet_direct(s, f, t),
     "StokesletFmm": lambda s, f, t=None: fmm.StokesletFmm(s, t).evaluate(f),
+    # the stresslet with valid normals of the forces' shape: the forces' checks come first
+    # (the normals' own checks: test_fmm_stresslet.py)
+    "stresslet": lambda s, f, t=None: fmm.stresslet(s, f, np.ones(np.shape(f)), t),
+    "stresslet_direct": lambda s, f, t=None: fmm.stresslet_direct(s, f, np.ones(np.shape(f)), t),
+    "StressletFmm": lambda s, f, t=None: fmm.StressletFmm(s, t).evaluate(f, np.ones(np.shape(f))),
 }
 
 
