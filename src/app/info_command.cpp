@@ -60,9 +60,8 @@ int info_command(const InfoOptions& opt) {
                "fluid.max_gmres = {}; docs/boundary-integral.md §4.8.3) of one double-layer far-field sum and one "
                "sparse product each\n",
                num(vr["near_field_mb"]), vr["max_gmres"].get<int>());
-    fmt::print("  double layer  far field summed directly ({}): O(N²) per GMRES iteration, whatever fluid.backend says, "
-               "until the double-layer FMM lands\n",
-               vr["double_layer_backend_reason"].get<std::string>());
+    fmt::print("  double layer  far field: {} ({}); a direct sum costs O(N²) per GMRES iteration, the FMM O(N)\n",
+               vr["double_layer_backend"].get<std::string>(), vr["double_layer_backend_reason"].get<std::string>());
   }
   const nlohmann::json& se = r["stable_dt"];
   fmt::print("stable dt       {:.3e} at t = 0 for Heun (membrane {:.3e}, bending {:.3e}, flow cap {:.3e}; limited by {})\n",

@@ -7,11 +7,15 @@
 
 #include "capsflow/core/bie/stresslet_pair.hpp"
 #include "capsflow/fmm/direct_sum.hpp"
+#include "capsflow/fmm/fmm.hpp"
+#include "capsflow/fmm/stresslet.hpp"
 
 namespace capsflow {
 
 namespace {
-constexpr double kInv8Pi = StressletPair::scale();
+constexpr double kInv8Pi = fmm::Stresslet::scale();
+// As the single layer: the FMM calibration is a relative L2 error, the tolerance a max norm.
+constexpr double kFmmToleranceMargin = 0.25;
 
 // T(r)·ñ (unscaled), symmetric: xx yy zz xy xz yz (StressletNormalPair's pair formula).
 using Sym = std::array<double, 6>;
@@ -54,9 +58,11 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   if (opt.near_ring_depth > 0) throw std::invalid_argument("double layer: near_ring_depth > 0 is not supported");
   backend_ = choose_backend(opt.backend, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   if (backend_ == FarFieldBackend::Fmm) {
-    // Until the stresslet FMM of capsflow::fmm exists, the double layer sums its far field directly.
-    backend_ = FarFieldBackend::Direct;
-    reason_ = "direct: the double-layer FMM is not available yet";
+    fmm::FmmOptions fo;
+    fo.tolerance = kFmmToleranceMargin * opt.tolerance;
+    fo.order = opt.fmm_order;
+    fo.threads = threads_;
+    fmm_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fo);
   }
   const size_t m = static_cast<size_t>(tri_.rows()), ns = source_slots_.size();
   slot_y_.resize(9 * m), slot_n_.resize(9 * m);
@@ -65,6 +71,9 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   src_.resize(3 * ns), src_n_.resize(3 * ns), density_.resize(6 * ns);
   build_near_pattern();
 }
+
+DoubleLayer::~DoubleLayer() = default;
+DoubleLayer::DoubleLayer(DoubleLayer&&) noexcept = default;
 
 void DoubleLayer::build_near_pattern() {
   // Columns of node i: the vertices of its touching, ring and band elements; slots in list order.
@@ -129,8 +138,27 @@ void DoubleLayer::set_surface(const Points& x) {
   // Far-field points are interior to elements or edge midpoints, never a node: no r = 0 test, one
   // Newton step (≤ 6e-9 per pair), as for the single layer's direct far field.
   unit_far_.resize(6 * static_cast<size_t>(n_nodes_));
-  fmm::direct_sum<StressletNormalPair, 1, false>(src_.data(), static_cast<std::size_t>(ns), src_n_.data(), x_.data(),
-                                                 static_cast<std::size_t>(n_nodes_), unit_far_.data(), threads_);
+  if (fmm_) {
+    // The FMM of the three unit constants (f = e_k, n = ñ) in one call; T_ijk ñ_k is symmetric in i, j.
+    fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), static_cast<std::size_t>(n_nodes_));
+    std::vector<double> unit(18 * static_cast<size_t>(ns)), out(9 * static_cast<size_t>(n_nodes_));
+    for (Eigen::Index s = 0; s < ns; ++s)
+      for (int k = 0; k < 3; ++k) {
+        double* d = &unit[6 * (static_cast<size_t>(k * ns + s))];
+        for (int c = 0; c < 3; ++c) d[c] = c == k ? 1.0 : 0.0, d[3 + c] = src_n_[3 * s + c];
+      }
+    fmm_->evaluate(unit.data(), out.data(), 3);
+    const size_t n = static_cast<size_t>(n_nodes_);
+    for (size_t i = 0; i < n; ++i) {
+      auto col = [&](int k, int c) { return out[3 * (k * n + i) + static_cast<size_t>(c)]; };  // D̃[e_k]_c
+      double* f = &unit_far_[6 * i];
+      f[0] = col(0, 0), f[1] = col(1, 1), f[2] = col(2, 2);
+      f[3] = 0.5 * (col(1, 0) + col(0, 1)), f[4] = 0.5 * (col(2, 0) + col(0, 2)), f[5] = 0.5 * (col(2, 1) + col(1, 2));
+    }
+  } else {
+    fmm::direct_sum<StressletNormalPair, 1, false>(src_.data(), static_cast<std::size_t>(ns), src_n_.data(), x_.data(),
+                                                   static_cast<std::size_t>(n_nodes_), unit_far_.data(), threads_);
+  }
   clock.lap(times_, Phase::BieFar);
   assemble_near_field(x);
   clock.lap(times_, Phase::BieNear);
@@ -203,8 +231,11 @@ void DoubleLayer::apply(const Points& u, Points& out) {
   }
   clock.lap(times_, Phase::BieSources);
   out.resize(n_nodes_, 3);
-  fmm::direct_sum<StressletPair, 1, false>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(),
-                                           static_cast<std::size_t>(n_nodes_), out.data(), threads_);
+  if (fmm_)
+    fmm_->evaluate(density_.data(), out.data());
+  else
+    fmm::direct_sum<fmm::Stresslet, 1, false>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(),
+                                              static_cast<std::size_t>(n_nodes_), out.data(), threads_);
   clock.lap(times_, Phase::BieFar);
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (Eigen::Index i = 0; i < n_nodes_; ++i) {

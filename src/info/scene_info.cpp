@@ -58,11 +58,15 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     // The second-kind solve (docs/boundary-integral.md §4.8); its near-field lists depend on the geometry only.
     SingleLayerOptions dl_options;
     dl_options.geometry = scene.fluid.geometry;
+    dl_options.backend = BackendRequest::Direct;  // the near field's size only (no FMM set-up here)
     const DoubleLayer dl(mesh.triangles, mesh.num_nodes(), dl_options);
+    std::string dl_why;  // the run's choice: by fluid.backend, as the single layer's
+    const FarFieldBackend dl_backend =
+        choose_backend(scene.fluid.backend, dl.far_field_sources(), mesh.num_nodes(), scene.fluid.tolerance, &dl_why);
     const double lambda = scene.fluid.viscosity_ratio;
     run["viscosity_ratio"] = {{"lambda", lambda}, {"kappa", (1 - lambda) / (1 + lambda)},
                               {"near_field_mb", dl.near_field_megabytes()}, {"max_gmres", scene.fluid.max_gmres},
-                              {"double_layer_backend", to_string(dl.backend())}, {"double_layer_backend_reason", dl.backend_reason()}};
+                              {"double_layer_backend", to_string(dl_backend)}, {"double_layer_backend_reason", dl_why}};
   }
   const StabilityEstimate se = stability_estimate(scene, st.edge_min);
   run["stable_dt"] = {{"limit", se.limit()}, {"membrane", se.membrane}, {"bending", se.bending}, {"flow", se.flow},

@@ -227,3 +227,28 @@ TEST(DoubleLayerSpheroid, ReproducesTheBoundaryIntegralIdentities) {
       EXPECT_GE(std::log2(r[1] / r[2]), 1.85);
     }
 }
+
+// The far field by the stresslet FMM (fluid.backend = "fmm") against the direct sum: the same
+// operator up to the FMM's tolerance, the near field and the identity term untouched.
+TEST(DoubleLayerSphere, FmmFarFieldMatchesTheDirectSum) {
+  const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
+  const auto field = sphere_fields()[8];  // exterior n = 2: no symmetry that could hide an error
+  Points u(m.num_nodes(), 3);
+  for (Eigen::Index i = 0; i < u.rows(); ++i) u.row(i) = field.u(m.vertices.row(i).transpose()).transpose();
+  Points out[2];
+  for (int k = 0; k < 2; ++k) {
+    SingleLayerOptions opt;
+    opt.backend = k == 0 ? BackendRequest::Direct : BackendRequest::Fmm;
+    opt.tolerance = 1e-6;
+    DoubleLayer D(m.triangles, m.num_nodes(), opt);
+    ASSERT_EQ(D.backend(), k == 0 ? FarFieldBackend::Direct : FarFieldBackend::Fmm);
+    D.set_surface(m.vertices);
+    D.apply(u, out[k]);
+  }
+  const double diff = (out[1] - out[0]).rowwise().norm().maxCoeff() / out[0].rowwise().norm().maxCoeff();
+  std::printf("double layer, level 4: FMM against direct, max relative difference %.2e\n", diff);
+  // The FMM promises 1e-6 (asked for 2.5e-7 in its relative L2 norm, as for the single layer); the
+  // identity term D̃[1] (three densities of one FMM evaluation) carries the same error.
+  EXPECT_LT(diff, 1e-5);
+  EXPECT_GT(diff, 0.0);  // the two sums did differ: the FMM path ran
+}

@@ -19,6 +19,7 @@
 // repeated applications of an iterative solve (apply(u)) cost one far-field sum and one sparse
 // product each.
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,12 +31,19 @@
 #include "capsflow/core/types.hpp"
 
 namespace capsflow {
+namespace fmm {
+struct Stresslet;
+template <class K>
+class Fmm;
+}  // namespace fmm
 
 class DoubleLayer {
  public:
   // The single layer's options: far-field back end, rule and tolerance, geometry, singular points,
   // near-ring and corrected layers, threads (near_ring_depth > 0 is not supported here).
   DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt = {});
+  ~DoubleLayer();
+  DoubleLayer(DoubleLayer&&) noexcept;
 
   // Everything that depends on the surface x only; call whenever the nodes move.
   void set_surface(const Points& x);
@@ -75,6 +83,7 @@ class DoubleLayer {
   std::vector<std::array<int, 2>> source_slots_;  // per far-field source: its slots 3e + k
   FarFieldBackend backend_;
   std::string reason_;
+  std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_;  // backend Fmm: set up once per surface
   Points x_;                          // the nodes of the last set_surface() (far-field targets)
   // Per slot 3e + k (element e's far-field point k): position (that of its source, so that the near
   // field subtracts exactly what the far field added) and weighted normal ñ = w n = N/6.

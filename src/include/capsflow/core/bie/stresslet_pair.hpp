@@ -1,32 +1,12 @@
 #pragma once
-// The stresslet (double-layer) pair formulas in the kernel form of capsflow::fmm (stateless
-// structs with src_dim, trg_dim, scale() and eval()), so that fmm::direct_sum sums them.
+// A stresslet (double-layer) pair formula in the kernel form of capsflow::fmm (a stateless struct
+// with src_dim, trg_dim, scale() and eval()), so that fmm::direct_sum sums it; the stresslet
+// itself is fmm::Stresslet (capsflow/fmm/stresslet.hpp).
 // T_ijk(r) = −6 r_i r_j r_k/|r|⁵, r = x − y (target minus source); pairs with r = 0 are skipped
 // (rinv = 0 adds exactly 0). Conventions: docs/boundary-integral.md §4.7.1.
 #include "capsflow/fmm/simd.hpp"
 
 namespace capsflow {
-
-// u_i(x) = (1/8π) Σ_y T_ijk(r) f_j n_k: per source the density (f, n), 6 numbers. The convention
-// agreed with the stresslet kernel of capsflow::fmm, which replaces this one when it lands.
-struct StressletPair {
-  static constexpr int src_dim = 6;
-  static constexpr int trg_dim = 3;
-  static constexpr int homogeneity = -2;
-  static constexpr const char* name = "stresslet";
-  static constexpr double scale() { return 1.0 / (8.0 * 3.14159265358979323846); }
-
-  template <class V>
-  static inline void eval(V (&u)[3], const V (&r)[3], const V& rinv, const V (&fn)[6]) {
-    const V rinv2 = rinv * rinv;
-    const V rf = fmm::simd::fma(fn[0], r[0], fmm::simd::fma(fn[1], r[1], fn[2] * r[2]));
-    const V rn = fmm::simd::fma(fn[3], r[0], fmm::simd::fma(fn[4], r[1], fn[5] * r[2]));
-    const V s = V(-6.0) * rf * rn * (rinv2 * rinv2 * rinv);
-    u[0] = fmm::simd::fma(s, r[0], u[0]);
-    u[1] = fmm::simd::fma(s, r[1], u[1]);
-    u[2] = fmm::simd::fma(s, r[2], u[2]);
-  }
-};
 
 // The matrix (1/8π) Σ_y T(r)·n, T_ijk n_k = −6 (r·n) r_i r_j/|r|⁵: per source the vector n, per
 // target the 6 entries of a symmetric matrix (xx yy zz xy xz yz). The double layer of the three
@@ -36,7 +16,7 @@ struct StressletNormalPair {
   static constexpr int trg_dim = 6;
   static constexpr int homogeneity = -2;
   static constexpr const char* name = "stresslet_normal";
-  static constexpr double scale() { return StressletPair::scale(); }
+  static constexpr double scale() { return 1.0 / (8.0 * 3.14159265358979323846); }  // fmm::Stresslet's
 
   template <class V>
   static inline void eval(V (&m)[6], const V (&r)[3], const V& rinv, const V (&n)[3]) {
