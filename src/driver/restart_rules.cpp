@@ -3,10 +3,12 @@
 
 #include <fmt/core.h>
 
+#include <fstream>
 #include <stdexcept>
 
 #include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/io/folder_lock.hpp"
+#include "capsflow/core/io/results_writer.hpp"
 #include "capsflow/core/io/run_identity.hpp"
 
 namespace capsflow {
@@ -74,6 +76,16 @@ RestartPlan plan_restart(const io::CheckpointState& ck, const fs::path& checkpoi
   if ((stored.fluid.verify_every > 0) != (plan.scene.fluid.verify_every > 0))
     refuse("--set fluid.verify_every: switching the direct far-field check on or off changes the columns of " + q +
            "/timeseries.csv; continue into a new or empty folder with -o NEW");
+  if ((stored.fluid.viscosity_ratio != 1.0) != (plan.scene.fluid.viscosity_ratio != 1.0))
+    refuse("--set fluid.viscosity_ratio: switching between λ = 1 and λ ≠ 1 changes the columns of " + q +
+           "/timeseries.csv (gmres_per_eval); continue into a new or empty folder with -o NEW");
+  {  // a folder written before the flow-plane columns (D_flow, theta, tank_treading) cannot take today's rows
+    std::ifstream csv(plan.folder / io::kTimeseriesCsv);
+    std::string header;
+    if (csv && std::getline(csv, header) && !header.empty() && ("," + header + ",").find(",theta,") == std::string::npos)
+      refuse(q + "/timeseries.csv was written by an older capsflow, without the columns D_flow, theta and tank_treading; "
+             "continue into a new or empty folder with -o NEW");
+  }
   io::FolderIdentity id;
   try {
     id = io::read_folder_identity(plan.folder);

@@ -166,3 +166,29 @@ TEST(RestartRules, SwitchingTheFarFieldCheckIsRefusedInPlaceButNotInANewFolder) 
   EXPECT_TRUE(p.new_folder);
   EXPECT_EQ(p.scene.fluid.verify_every, 5);
 }
+
+// fluid.viscosity_ratio ≠ 1 adds the gmres_per_eval column: switching between λ = 1 and λ ≠ 1 in the
+// run's own folder is refused (as fluid.verify_every), into a new folder it is not; λ ≠ 1 → another
+// λ ≠ 1 keeps the columns.
+TEST(RestartRules, SwitchingToAViscosityRatioIsRefusedInPlaceButNotInANewFolder) {
+  TempDir d;
+  make_run_folder(d.path / "A", "run-a");
+  const std::string e = refusal(
+      [&] { plan_restart(checkpoint("run-a"), d.path / "A" / "checkpoint.h5", {"time.t_end=1", "fluid.viscosity_ratio=5"}, ""); });
+  EXPECT_NE(e.find("--set fluid.viscosity_ratio"), std::string::npos) << e;
+  EXPECT_NE(e.find("-o NEW"), std::string::npos) << e;
+  const RestartPlan p = plan_restart(checkpoint("run-a"), d.path / "A" / "checkpoint.h5",
+                                     {"time.t_end=1", "fluid.viscosity_ratio=5"}, (d.path / "new").string());
+  EXPECT_EQ(p.scene.fluid.viscosity_ratio, 5.0);
+}
+
+// A run folder whose timeseries.csv predates the flow-plane columns cannot take today's rows in place.
+TEST(RestartRules, AFolderWithoutTheFlowPlaneColumnsIsRefusedInPlace) {
+  TempDir d;
+  make_run_folder(d.path / "A", "run-a");
+  { std::ofstream(d.path / "A" / "timeseries.csv") << "t,step,dt,D12\n0,0,0,0\n"; }
+  const std::string e = refusal([&] { plan_restart(checkpoint("run-a"), d.path / "A" / "checkpoint.h5", {"time.t_end=1"}, ""); });
+  EXPECT_NE(e.find("without the columns D_flow, theta and tank_treading"), std::string::npos) << e;
+  { std::ofstream(d.path / "A" / "timeseries.csv") << "t,step,dt,D12,D_flow,theta,tank_treading\n0,0,0,0,0,0,\n"; }
+  EXPECT_EQ(refusal([&] { plan_restart(checkpoint("run-a"), d.path / "A" / "checkpoint.h5", {"time.t_end=1"}, ""); }), "");
+}
