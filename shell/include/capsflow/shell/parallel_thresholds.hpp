@@ -4,12 +4,11 @@
 // not repay. They never change a result: every parallel loop writes disjoint entries or sums in
 // fixed chunks (parallel.hpp), so the output is bit-identical on or off the team.
 //
-// Measurement: none chose these values. They were set when the loops were written (session 1, on
-// a machine shared by several builds); the only related measurement is perf/shell/RESULTS.md §1:
-// at 5 120 elements one wall stage took as long on 1 thread as on 2. How to choose them: on a
-// quiet machine, time each loop family at n = 2^8 … 2^16 with OMP_NUM_THREADS=1 and 2 and
-// OMP_WAIT_POLICY=passive (the setting capsflow runs with), medians of ≥ 20 calls; the threshold is
-// the smallest n at which 2 threads are faster. docs/shell.md §2.7 lists the loops.
+// Measurement: perf/shell/parallel_thresholds (built with -DCAPSFLOW_BENCHMARKS=ON) times what an
+// OpenMP team costs and each loop family's serial cost per item, and prints the break-even size
+// at which two threads pay off beside each value here; the values and that measurement are in
+// docs/shell.md §2.7. A value within a factor of a few of its break-even is kept: below it the
+// loop costs microseconds either way.
 namespace capsflow::shell {
 
 /// Loops over nodes with a few dozen flops per node (packing the element-pass input, the
