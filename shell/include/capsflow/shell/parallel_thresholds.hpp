@@ -7,8 +7,9 @@
 // Measurement: perf/shell/parallel_thresholds (built with -DCAPSFLOW_BENCHMARKS=ON) times what an
 // OpenMP team costs and each loop family's serial cost per item, and prints the break-even size
 // at which two threads pay off beside each value here; the values and that measurement are in
-// docs/shell.md §2.7. A value within a factor of a few of its break-even is kept: below it the
-// loop costs microseconds either way.
+// docs/shell.md §2.7 (2 threads, quiet machine, 2026-12-01: a team costs about 50 µs here). A
+// value within a factor of two of its break-even is kept; three that were 8–25 times below theirs
+// were raised to it.
 namespace capsflow::shell {
 
 /// Loops over nodes with a few dozen flops per node (packing the element-pass input, the
@@ -20,14 +21,15 @@ inline constexpr int kParallelLumpedNodes = 2048;
 inline constexpr int kParallelAreaElements = 4096;
 /// Elements of one colour in the GSMB element pass (bending + shear kernel, optional membrane).
 inline constexpr int kParallelGsmbColour = 256;
-/// Elements of one colour in the membrane-only force pass.
-inline constexpr int kParallelMembraneColour = 512;
+/// Elements of one colour in the membrane-only force pass (was 512: a team per colour cost more
+/// than it saved below ~5 000 elements per colour, i.e. on every mesh up to ~40 000 elements).
+inline constexpr int kParallelMembraneColour = 4096;
 /// Matrix rows of the stand-alone sparse product (spmv) and block rows of the PCG preconditioner
-/// set-up.
-inline constexpr int kParallelRows = 4096;
+/// set-up (was 4096; ~3 ns per row, break-even ~35 000 rows).
+inline constexpr int kParallelRows = 32768;
 /// Entries (rows × right-hand sides) of a PCG solve.
 inline constexpr long kParallelPcgEntries = 8192;
-/// Terms of a deterministic sum (par::det_sum).
-inline constexpr long kParallelSumTerms = 8192;
+/// Terms of a deterministic sum (par::det_sum) (was 8192; 0.5 ns per term, break-even ~190 000).
+inline constexpr long kParallelSumTerms = 131072;
 
 }  // namespace capsflow::shell
