@@ -17,6 +17,7 @@ calls. See docs/python.md §2.
 from __future__ import annotations
 
 import math
+import threading
 
 import numpy as np
 
@@ -44,10 +45,35 @@ def order_for_tolerance(tolerance: float, kernel: str = "stokeslet") -> int:
 
 
 def clear_operator_cache() -> None:
-    """Free the FMM operators kept in memory. The package keeps the last set used per kernel (one
-    order each; hundreds of MB at high orders) so that repeated calls at one tolerance skip reading it from
-    the disk cache ($CAPSFLOW_CACHE_DIR, else ~/.cache/capsflow)."""
+    """Free the FMM operators kept in memory, and the FMM the one-shot functions keep. The package
+    keeps the last operator set used per kernel (one order each; hundreds of MB at high orders) so
+    that repeated calls at one tolerance skip reading it from the disk cache ($CAPSFLOW_CACHE_DIR,
+    else ~/.cache/capsflow)."""
+    with _one_shot_lock:
+        _one_shot_fmms.clear()
     _core.clear_fmm_operators()
+
+
+# The one-shot functions (stokeslet, stresslet) keep their last FMM per kernel and move it to the
+# new points: a fresh FMM's first evaluation pays for first-touching its buffers (measured ~10 % at
+# N = 1e5), which a reused one does not. One lock: one-shot calls from several Python threads run
+# one after another (each uses all the FMM's threads while the GIL is released).
+_one_shot_lock = threading.Lock()
+_one_shot_fmms: dict = {}  # kernel class -> ((tolerance, threads), its FMM)
+
+
+def _one_shot(cls, sources, targets, tolerance, threads, *densities) -> np.ndarray:
+    key = (_tolerance(tolerance), _arrays.threads(threads))
+    with _one_shot_lock:
+        kept = _one_shot_fmms.get(cls)
+        if kept is not None and kept[0] == key:
+            fmm = kept[1]
+            fmm.move(sources, targets)
+        else:
+            _one_shot_fmms.pop(cls, None)  # free the old one before building the new one
+            fmm = cls(sources, targets, tolerance=tolerance, threads=threads)
+            _one_shot_fmms[cls] = (key, fmm)
+        return fmm._evaluate(*densities)
 
 
 def _core_property(name: str, doc: str) -> property:
@@ -152,8 +178,9 @@ def stokeslet(sources, forces, targets=None, tolerance: float = 1e-6, threads: i
     """Velocities (M, 3) at `targets` (None: at the sources) of Stokeslets `forces` (N, 3) at
     `sources` (N, 3), by the FMM at relative L2 `tolerance`; a stack of force sets (K, N, 3) gives
     (K, M, 3) in one pass. For force sets that come one at a time on the same points, keep a
-    StokesletFmm instead (the tree is built once)."""
-    return StokesletFmm(sources, targets, tolerance=tolerance, threads=threads).evaluate(forces)
+    StokesletFmm instead (the tree is built once). The last FMM is kept and moved to the next
+    call's points (clear_operator_cache frees it)."""
+    return _one_shot(StokesletFmm, sources, targets, tolerance, threads, forces)
 
 
 def stokeslet_direct(sources, forces, targets=None, threads: int | None = None) -> np.ndarray:
@@ -172,8 +199,9 @@ def stresslet(sources, forces, normals, targets=None, tolerance: float = 1e-6,
     `forces` and `normals` (N, 3) each at `sources` (N, 3), by the FMM at relative L2 `tolerance`;
     stacks (K, N, 3) give (K, M, 3) in one pass. Forces and normals are interleaved into one C++
     buffer of (N, 6) rows (the kernel's layout), the only copy. For density sets that come one at a
-    time on the same points, keep a StressletFmm instead (the tree is built once)."""
-    return StressletFmm(sources, targets, tolerance=tolerance, threads=threads).evaluate(forces, normals)
+    time on the same points, keep a StressletFmm instead (the tree is built once). The last FMM is
+    kept and moved to the next call's points (clear_operator_cache frees it)."""
+    return _one_shot(StressletFmm, sources, targets, tolerance, threads, forces, normals)
 
 
 def stresslet_direct(sources, forces, normals, targets=None, threads: int | None = None) -> np.ndarray:

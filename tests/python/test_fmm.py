@@ -123,3 +123,23 @@ def test_the_gil_is_released_during_a_sum():
     # with the GIL held, this thread could run no Python until the sum returned; released, it
     # runs at once: well before the end of a sum of ~1 s (half of it: margin for a loaded machine)
     assert first_python_step < times["end"] - 0.5 * (times["end"] - times["start"])
+
+
+def test_the_one_shot_functions_reuse_their_fmm_and_give_a_fresh_ones_result():
+    """stokeslet()/stresslet() keep their last FMM and move it to new points (warm buffers): the
+    result must be exactly that of a new FMM on those points, whatever came before."""
+    a, b = make_points("sphere", 2000, 11), make_points("cube", 1500, 12)
+    fa, fb = forces(2000, 13), forces(1500, 14)
+    for points, f, targets in [(a, fa, None), (b, fb, None), (a, fa, b), (b, fb, None)]:
+        got = fmm.stokeslet(points, f, targets, tolerance=1e-6)
+        fresh = fmm.StokesletFmm(points, targets, tolerance=1e-6).evaluate(f)
+        # same points, same order, same tree: the same arithmetic, bit for bit
+        assert np.array_equal(got, fresh)
+    n = forces(1500, 15)
+    got = fmm.stresslet(b, fb, n, tolerance=1e-3)
+    assert np.array_equal(got, fmm.StressletFmm(b, tolerance=1e-3).evaluate(fb, n))
+    # another tolerance builds another FMM (another order): still the fresh result
+    got = fmm.stokeslet(b, fb, tolerance=1e-3)
+    assert np.array_equal(got, fmm.StokesletFmm(b, tolerance=1e-3).evaluate(fb))
+    fmm.clear_operator_cache()  # frees the kept FMMs too; the next call builds anew
+    assert np.array_equal(fmm.stokeslet(a, fa, tolerance=1e-6), fmm.StokesletFmm(a, tolerance=1e-6).evaluate(fa))
