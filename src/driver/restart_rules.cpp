@@ -52,6 +52,10 @@ std::int64_t restart_index(std::int64_t stored, double old_every, double new_eve
   return old_every == new_every ? stored : first_index_after(t, new_every);
 }
 
+fs::path checkpoint_folder(const fs::path& checkpoint_path) {
+  return checkpoint_path.parent_path().empty() ? fs::path(".") : checkpoint_path.parent_path();
+}
+
 RestartPlan plan_restart(const io::CheckpointState& ck, const fs::path& checkpoint_path,
                          const std::vector<std::string>& overrides, const std::string& output_dir) {
   RestartPlan plan;
@@ -60,7 +64,7 @@ RestartPlan plan_restart(const io::CheckpointState& ck, const fs::path& checkpoi
   plan.scene = parse_scene(ck.scene_toml, name, overrides);
   check_restart_overrides(stored, plan.scene, ck.t, static_cast<long>(ck.triangles.rows()));
 
-  const fs::path home = checkpoint_path.parent_path().empty() ? fs::path(".") : checkpoint_path.parent_path();
+  const fs::path home = checkpoint_folder(checkpoint_path);
   plan.folder = output_dir.empty() ? home : fs::path(output_dir);
   const std::string q = "'" + plan.folder.string() + "'";
   std::error_code ec;

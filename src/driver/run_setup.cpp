@@ -78,9 +78,7 @@ std::filesystem::path folder_to_write(const RunOptions& opt) {
   namespace fs = std::filesystem;
   if (opt.restart.empty() || !opt.output_dir.empty()) return opt.output_dir;
   std::error_code ec;
-  if (fs::is_directory(opt.restart, ec)) return opt.restart;
-  const fs::path home = fs::path(opt.restart).parent_path();
-  return home.empty() ? fs::path(".") : home;
+  return fs::is_directory(opt.restart, ec) ? fs::path(opt.restart) : checkpoint_folder(opt.restart);
 }
 
 }  // namespace

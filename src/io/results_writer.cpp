@@ -283,10 +283,11 @@ void ResultsWriter::append_row(const CsvRow& row) {
   // run.h5 keeps each row beside its step (attribute csv_row, the header as /steps' csv_header),
   // written before the CSV's: a restart restores the rows a crash cut from the CSV (reopen).
   if (!s_->steps.empty()) {
-    const std::string header = TimeseriesCsv::header_line(row);
+    // The header once, with the CSV's first row (a restarted CSV has it already, and so has run.h5).
+    const std::string header = s_->csv->columns().empty() ? TimeseriesCsv::header_line(row) : std::string();
     h5::File f = h5::File::open(s_->h5_path(), h5::File::Mode::read_write, true);
     {
-      f.open_group("steps").set_attribute("csv_header", header);
+      if (!header.empty()) f.open_group("steps").set_attribute("csv_header", header);
       f.open_group(s_->steps.back().group).set_attribute("csv_row", TimeseriesCsv::value_line(row));
     }
     f.close();

@@ -86,7 +86,7 @@ TimeseriesCsv& TimeseriesCsv::operator=(TimeseriesCsv&& o) noexcept {
   return *this;
 }
 
-std::string TimeseriesCsv::header_line(const CsvRow& row) {
+std::vector<std::string> TimeseriesCsv::column_names(const CsvRow& row) {
   if (row.empty()) throw std::invalid_argument("empty time-series row");
   std::vector<std::string> names;
   for (const auto& [name, value] : row) {
@@ -95,8 +95,10 @@ std::string TimeseriesCsv::header_line(const CsvRow& row) {
     }
     names.push_back(name);
   }
-  return join(names);
+  return names;
 }
+
+std::string TimeseriesCsv::header_line(const CsvRow& row) { return join(column_names(row)); }
 
 std::string TimeseriesCsv::value_line(const CsvRow& row) {
   std::string text;
@@ -111,18 +113,16 @@ std::string TimeseriesCsv::value_line(const CsvRow& row) {
 }
 
 void TimeseriesCsv::append_row(const CsvRow& row) {
-  std::string header;
+  std::vector<std::string> names;
   try {
-    header = header_line(row);
+    names = column_names(row);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path_.string() + ": " + e.what());
   }
-  std::vector<std::string> names;
-  for (const auto& [name, value] : row) names.push_back(name);
   std::string text;
   if (columns_.empty()) {
     columns_ = names;
-    text += header + "\n";
+    text += join(names) + "\n";
   } else if (names != columns_) {
     throw std::invalid_argument(path_.string() + ": row columns (" + join(names) +
                                 ") differ from the header (" + join(columns_) + ")");

@@ -38,6 +38,9 @@ struct RestartPlan {
 
 // Throws std::runtime_error (one line) when the restart is refused; changes nothing on disk.
 // `checkpoint_path` is the file read (for its folder), `output_dir` the -o argument ("" if none).
+// The folder a checkpoint file is in ("." for a bare file name): where a restart continues by default.
+std::filesystem::path checkpoint_folder(const std::filesystem::path& checkpoint_path);
+
 RestartPlan plan_restart(const io::CheckpointState& checkpoint, const std::filesystem::path& checkpoint_path,
                          const std::vector<std::string>& overrides, const std::string& output_dir);
 

@@ -48,6 +48,8 @@ class TimeseriesCsv {
                                   const std::vector<std::string>& lines);
 
  private:
+  // The row's column names, checked (non-empty row, no comma, quote or line break in a name).
+  static std::vector<std::string> column_names(const CsvRow& row);
   std::filesystem::path path_;
   std::FILE* file_ = nullptr;
   std::vector<std::string> columns_;
