@@ -46,7 +46,6 @@ ViscosityRatioSolver::ViscosityRatioSolver(const Triangles& triangles, Eigen::In
 ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe) {
   const Eigen::Index n = x.rows();
   if (a.rows() != n || v1.rows() != n) throw std::invalid_argument("viscosity ratio: one row per node");
-  D_.set_surface(x);
   const VectorXd m = a.rowwise().norm();  // nodal areas (|a_i| = |Σ A_e n_e/3|)
   VectorXd w(3 * n);
   for (Eigen::Index i = 0; i < n; ++i) w.segment<3>(3 * i).setConstant(m[i]);
@@ -58,11 +57,17 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
 
   // κ, 1 + κ = 2/(1 + λ) and κ/(1 + κ) = (1 − λ)/2, each formed without cancellation.
   const double kappa = kappa_, one_plus_kappa = 2 / (1 + lambda_), kappa_over = (1 - lambda_) / 2;
-  Points Y(n, 3), DY;
+  Points Y(n, 3), DY, Y0, DY0;
   // y ↦ R y = y + κ (I − P) Ã y, with aux = Ã y = A y + n̂ (aᵀy)/(aᵀn̂) (y has no rigid part).
+  // GMRES applies R to its initial guess first: D_h of it came with the double layer's set-up.
   const GmresOperator R = [&](const VectorXd& y, VectorXd& Ry, VectorXd* aux) {
     Eigen::Map<VectorXd>(Y.data(), Y.size()) = y;
-    D_.apply(Y, DY);
+    if (Y0.size() > 0 && Y == Y0) {
+      DY = DY0;
+      Y0.resize(0, 3);  // used once
+    } else {
+      D_.apply(Y, DY);
+    }
     VectorXd Ay = 2.0 * flat(DY) + flat(nhat) * (flat(a).dot(y) / a_nhat);
     Ry = y + kappa * (Ay - project(Ay));
     if (aux) *aux = std::move(Ay);
@@ -72,7 +77,7 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   const double v_norm = std::sqrt(w.dot(v.cwiseProduct(v)));
   ViscosityRatioStats st;
   u.resize(n, 3);
-  if (v_norm == 0) {  // no flow, no load: u = 0
+  if (v_norm == 0) {  // no flow, no load: u = 0 (the next solve sets the surface up)
     u.setZero();
     if (!probe) previous_y_.setZero(3 * n), have_previous_ = true;
     return st;
@@ -83,6 +88,9 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
     y = previous_y_ + (b - previous_b_);
     y -= project(y);
   }
+  Y0.resize(n, 3);
+  Eigen::Map<VectorXd>(Y0.data(), Y0.size()) = y;
+  D_.set_surface(x, &Y0, &DY0);
   VectorXd Ay = VectorXd::Zero(3 * n);
   GmresOptions go = gmres_;
   double scale = one_plus_kappa * v_norm;

@@ -252,3 +252,36 @@ TEST(DoubleLayerSphere, FmmFarFieldMatchesTheDirectSum) {
   EXPECT_LT(diff, 1e-5);
   EXPECT_GT(diff, 0.0);  // the two sums did differ: the FMM path ran
 }
+
+// set_surface(x, &u, &Du) — the set-up with its first application from the same far-field pass
+// (the viscosity-ratio solve's initial residual) — against set_surface(x) then apply(u), on an
+// a/b = 2 spheroid with a field of no symmetry, for both far-field back ends, and the operator
+// applied afterwards to another field is unchanged by the fused call.
+TEST(DoubleLayerSpheroid, SetUpWithItsFirstApplicationEqualsSetUpThenApply) {
+  const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 3);
+  Points x = m.vertices, u(m.num_nodes(), 3), v(m.num_nodes(), 3);
+  x.col(2) *= 2.0;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    u.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
+    v.row(i) << std::sin(x(i, 0)), x(i, 1) * x(i, 1), -x(i, 2);
+  }
+  for (BackendRequest b : {BackendRequest::Direct, BackendRequest::Fmm}) {
+    SingleLayerOptions opt;
+    opt.backend = b;
+    opt.tolerance = 1e-6;
+    DoubleLayer A(m.triangles, m.num_nodes(), opt), B(m.triangles, m.num_nodes(), opt);
+    Points Au, Bu, Av, Bv;
+    A.set_surface(x);
+    A.apply(u, Au);
+    B.set_surface(x, &u, &Bu);
+    A.apply(v, Av);
+    B.apply(v, Bv);
+    const double scale = Au.cwiseAbs().maxCoeff();
+    // Same pairs summed in a different grouping (direct: one 9-output pass instead of a 6- and a
+    // 3-output pass; FMM: one evaluation of 4 densities instead of 3 + 1): round-off only, ~1e-15
+    // relative; 1e-12 leaves room for the FMM's different accumulation order.
+    EXPECT_LT((Bu - Au).cwiseAbs().maxCoeff(), 1e-12 * scale) << to_string(b);
+    EXPECT_LT((Bv - Av).cwiseAbs().maxCoeff(), 1e-12 * Av.cwiseAbs().maxCoeff()) << to_string(b);
+    EXPECT_EQ(B.applications(), 2);  // the fused call counts as an application
+  }
+}

@@ -45,8 +45,10 @@ class DoubleLayer {
   ~DoubleLayer();
   DoubleLayer(DoubleLayer&&) noexcept;
 
-  // Everything that depends on the surface x only; call whenever the nodes move.
-  void set_surface(const Points& x);
+  // Everything that depends on the surface x only; call whenever the nodes move. Given u, also
+  // Du = D_h[u] on the new surface (as apply(u, Du)) from the same far-field pass: the first
+  // application of an iterative solve for the price of the set-up's own pass plus a few percent.
+  void set_surface(const Points& x, const Points* u = nullptr, Points* Du = nullptr);
   // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
   void apply(const Points& u, Points& out);
 
@@ -61,7 +63,7 @@ class DoubleLayer {
             4.0 * static_cast<double>(block_col_.size() + slot_.size() + block_start_.size() + slot_start_.size())) / 1e6;
   }
   // Seconds in BieSources, BieFar and BieNear over all calls, and split by call: set_surface()
-  // (surface, near blocks, D̃[1]) and apply().
+  // (surface, near blocks, D̃[1], and its first application if asked) and apply().
   const PhaseTimes& times() const { return times_; }
   double setup_seconds() const { return setup_seconds_; }
   double apply_seconds() const { return apply_seconds_; }
@@ -71,6 +73,8 @@ class DoubleLayer {
  private:
   void build_near_pattern();
   void assemble_near_field(const Points& x);
+  void fill_far_densities(const Points& u);                // density_ from u
+  void add_near_field(const Points& u, Points& out) const;  // out += near blocks and diagonal times u
 
   Triangles tri_;
   Eigen::Index n_nodes_;
@@ -98,6 +102,7 @@ class DoubleLayer {
   // 1/8π. slot_ maps (node, listed element) to the blocks of its 3 vertices, in list order.
   std::vector<int> block_start_, block_col_, slot_start_, slot_;
   std::vector<double> block_, diagonal_;
+  int max_points_per_node_ = 0;  // rule points of a node's listed elements (scratch size)
   PhaseTimes times_;
   double setup_seconds_ = 0, apply_seconds_ = 0;
   long setups_ = 0, applications_ = 0;

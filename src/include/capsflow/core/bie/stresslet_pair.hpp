@@ -34,3 +34,38 @@ struct StressletNormalPair {
 };
 
 }  // namespace capsflow
+
+namespace capsflow {
+
+// fmm::Stresslet's sum and StressletNormalPair's matrix in one pass over the pairs: per source
+// (f, n) as for fmm::Stresslet; per target 9 outputs, T_ijk f_j n_k (3) then T_ijk n_k (6, xx yy zz
+// xy xz yz). The double layer's set-up computes its identity term and its first application (the
+// Krylov solve's initial residual) together: the pair geometry, the larger part of either, once.
+struct StressletAndNormalPair {
+  static constexpr int src_dim = 6;
+  static constexpr int trg_dim = 9;
+  static constexpr int homogeneity = -2;
+  static constexpr const char* name = "stresslet_and_normal";
+  static constexpr double scale() { return StressletNormalPair::scale(); }
+
+  template <class V>
+  static inline void eval(V (&u)[9], const V (&r)[3], const V& rinv, const V (&d)[6]) {
+    const V rinv2 = rinv * rinv;
+    const V rf = fmm::simd::fma(r[0], d[0], fmm::simd::fma(r[1], d[1], r[2] * d[2]));
+    const V rn = fmm::simd::fma(r[0], d[3], fmm::simd::fma(r[1], d[4], r[2] * d[5]));
+    const V s = V(-6.0) * rn * (rinv2 * rinv2 * rinv);
+    const V c = s * rf;
+    u[0] = fmm::simd::fma(c, r[0], u[0]);
+    u[1] = fmm::simd::fma(c, r[1], u[1]);
+    u[2] = fmm::simd::fma(c, r[2], u[2]);
+    const V sx = s * r[0], sy = s * r[1];
+    u[3] = fmm::simd::fma(sx, r[0], u[3]);
+    u[4] = fmm::simd::fma(sy, r[1], u[4]);
+    u[5] = fmm::simd::fma(s * r[2], r[2], u[5]);
+    u[6] = fmm::simd::fma(sx, r[1], u[6]);
+    u[7] = fmm::simd::fma(sx, r[2], u[7]);
+    u[8] = fmm::simd::fma(sy, r[2], u[8]);
+  }
+};
+
+}  // namespace capsflow
