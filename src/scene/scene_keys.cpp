@@ -159,9 +159,11 @@ const Section<MeshSpec>& mesh_keys() {
       "mesh", &Scene::mesh,
       {choice("base", &MeshSpec::base, BaseSolid::Icosahedron, "base solid (`docs/conventions.md` §4.1)"),
        integer("level", &MeshSpec::level, 4, closed(0, 9), "subdivisions: 20·4^level or 8·4^level elements"),
-       choice("shape", &MeshSpec::shape, MeshShape::Spheroid, "`\"sphere\"` forces `aspect = 1`"),
+       choice("shape", &MeshSpec::shape, MeshShape::Spheroid,
+              "`\"sphere\"` forces `aspect = 1`; `\"biconcave\"`: the red blood cell's resting disc (Evans & Fung 1972, "
+              "`docs/conventions.md` §4.2.1), `aspect` unused"),
        number("aspect", &MeshSpec::aspect, 1.4, closed(0.1, 10.0), "a/b of the spheroid (> 1 prolate, < 1 oblate)"),
-       integer("axis", &MeshSpec::axis, 3, closed(1, 3), "symmetry axis of the spheroid"),
+       integer("axis", &MeshSpec::axis, 3, closed(1, 3), "symmetry axis of the spheroid or the biconcave disc"),
        mesh_file("user mesh; when given, `base`, `level`, `shape`, `aspect`, `axis` are ignored (still validated). A "
                  "relative path in a scene file is relative to the scene's folder; given with `--set`, relative to the "
                  "working directory (`docs/conventions.md` §4.4)")}};

@@ -5,7 +5,7 @@
 
 namespace capsflow {
 
-// The reference (initial) capsule surface of a scene: generated (sphere or spheroid with ℓ = 1)
+// The reference (initial) capsule surface of a scene: generated (sphere, spheroid or biconcave disc with ℓ = 1)
 // or read from mesh.file (validated, oriented outward, rescaled to ℓ = 1, centred at the
 // volume centroid).
 SurfaceMesh make_reference_mesh(const MeshSpec& spec);

@@ -8,12 +8,13 @@
 
 namespace capsflow {
 
-enum class MeshShape { Sphere, Spheroid };
+enum class MeshShape { Sphere, Spheroid, Biconcave };
 enum class WallModel { Membrane, Gsmb };
 enum class FlowType { PlanarHyperbolic, SimpleShear, Linear, Quiescent };
 enum class OutputField { Velocity, Load, Energy };
 
-inline constexpr NameTable<MeshShape, 2> kMeshShapeNames{{{MeshShape::Sphere, "sphere"}, {MeshShape::Spheroid, "spheroid"}}};
+inline constexpr NameTable<MeshShape, 3> kMeshShapeNames{
+    {{MeshShape::Sphere, "sphere"}, {MeshShape::Spheroid, "spheroid"}, {MeshShape::Biconcave, "biconcave"}}};
 inline constexpr NameTable<WallModel, 2> kWallModelNames{{{WallModel::Membrane, "membrane"}, {WallModel::Gsmb, "gsmb"}}};
 inline constexpr NameTable<FlowType, 4> kFlowTypeNames{{{FlowType::PlanarHyperbolic, "planar_hyperbolic"},
                                                         {FlowType::SimpleShear, "simple_shear"},
