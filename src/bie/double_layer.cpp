@@ -7,6 +7,7 @@
 
 #include "capsflow/core/bie/stresslet_pair.hpp"
 #include "capsflow/fmm/direct_sum.hpp"
+#include "capsflow/fmm/direct_sum_mixed.hpp"
 #include "capsflow/fmm/fmm.hpp"
 #include "capsflow/fmm/stresslet.hpp"
 
@@ -16,6 +17,10 @@ namespace {
 constexpr double kInv8Pi = fmm::Stresslet::scale();
 // As the single layer: the FMM calibration is a relative L2 error, the tolerance a max norm.
 constexpr double kFmmToleranceMargin = 0.25;
+// Single-precision pairs err by ~1e-7 of the output in L2 (≤ 4e-7 of its largest entry;
+// fmm/direct_sum_mixed.hpp, tests/fmm/test_kernels.cpp); taken when the caller allows 100× that
+// relative to the input (the operator's norm is O(1)).
+constexpr double kMixedPrecisionAllowedError = 1e-5;
 
 inline void add(double* b, double c, const Mat3& m) {
   b[0] += c * m(0, 0), b[1] += c * m(1, 1), b[2] += c * m(2, 2);
@@ -85,12 +90,25 @@ void DoubleLayer::build_near_pattern() {
       for (int k = 0; k < 3; ++k)
         slot_.push_back(base + static_cast<int>(std::lower_bound(cols.begin(), cols.end(), tri_(e, k)) - cols.begin()));
     slot_start_.push_back(static_cast<int>(slot_.size()));
-    max_points_per_node_ = std::max(max_points_per_node_, 3 * static_cast<int>(lists_.touching(i).size()) +
-                                                              10 * static_cast<int>(lists_.ring(i).size()) +
-                                                              6 * static_cast<int>(lists_.band(i).size()));
   }
   block_.resize(6 * block_col_.size());
   diagonal_.resize(static_cast<size_t>(6 * n_nodes_));
+  // The assembly visits the nodes breadth-first over the mesh: consecutive nodes are neighbours
+  // and share most of their listed elements, whose rule points then stay in cache (in the
+  // generator's numbering neighbours can be far apart: the assembly was memory-bound).
+  std::vector<std::vector<int>> adjacent(static_cast<size_t>(n_nodes_));
+  for (Eigen::Index e = 0; e < tri_.rows(); ++e)
+    for (int k = 0; k < 3; ++k) adjacent[static_cast<size_t>(tri_(e, k))].push_back(tri_(e, (k + 1) % 3));
+  std::vector<char> seen(static_cast<size_t>(n_nodes_), 0);
+  node_order_.clear();
+  for (Eigen::Index start = 0; start < n_nodes_; ++start) {  // every component
+    if (seen[static_cast<size_t>(start)]) continue;
+    seen[static_cast<size_t>(start)] = 1;
+    node_order_.push_back(static_cast<int>(start));
+    for (size_t head = node_order_.size() - 1; head < node_order_.size(); ++head)
+      for (int j : adjacent[static_cast<size_t>(node_order_[head])])
+        if (!seen[static_cast<size_t>(j)]) seen[static_cast<size_t>(j)] = 1, node_order_.push_back(j);
+  }
 }
 
 void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
@@ -179,105 +197,90 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
 }
 
 void DoubleLayer::assemble_near_field(const Points& x) {
-  // Per node: gather the rule points of its listed elements (touching: the far rule, subtracted;
-  // ring: 7-point rule minus the far rule; band: 3-point Gauss rule minus the far rule), evaluate
-  // T(r)·ñ for all of them in SIMD lanes, then add each element's points to its three vertex
-  // blocks, summed per element first so that a block is written once per element.
+  // Per node i and per kind of listed element (touching: the far rule, subtracted; ring: the
+  // 7-point rule minus the far rule; band: the 3-point Gauss rule minus the far rule), the
+  // elements go through SIMD lanes, one element per lane: all lanes evaluate T(r)·ñ at the same
+  // rule point, whose weights are then the same scalars for every lane, and each element's three
+  // vertex blocks are summed in registers and written once.
   using fmm::simd::VecD;
   constexpr int W = VecD::width;
   const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
-  const size_t cap = static_cast<size_t>((max_points_per_node_ + W - 1) / W * W);
-#pragma omp parallel num_threads(threads_)
-  {
-    // Per point: y (3) and ñ (3) in structure of arrays for the SIMD lanes; T·ñ (6, padded to 8)
-    // per point for the per-element sums, whose 8 components then add as one vector.
-    std::vector<double> pts(6 * cap), mat(8 * cap, 0.0);
-    double* const py[6] = {&pts[0], &pts[cap], &pts[2 * cap], &pts[3 * cap], &pts[4 * cap], &pts[5 * cap]};
-    double* const pm = mat.data();
-#pragma omp for schedule(dynamic, 64)
-    for (Eigen::Index i = 0; i < n_nodes_; ++i) {
-      const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
-      int K = 0;
-      auto gather = [&](const std::vector<double>& y, const std::vector<double>& n, int e, int points) {
-        for (int p = 0; p < points; ++p, ++K)
-          for (int d = 0; d < 3; ++d)
-            py[d][K] = y[3 * static_cast<size_t>(points * e + p) + d], py[3 + d][K] = n[3 * static_cast<size_t>(points * e + p) + d];
-      };
-      for (int e : lists_.touching(i)) gather(slot_y_, slot_n_, e, 3);
-      for (int e : lists_.ring(i)) gather(ring_y_, ring_n_, e, 7), gather(slot_y_, slot_n_, e, 3);
-      for (int e : lists_.band(i)) gather(band_y_, band_n_, e, 3), gather(slot_y_, slot_n_, e, 3);
-      for (int q = K; q < (K + W - 1) / W * W; ++q)  // padding lanes: away from x_i, ñ = 0 (adds 0)
-        for (int d = 0; d < 3; ++d) py[d][q] = xi[d] + (d == 0 ? 1.0 : 0.0), py[3 + d][q] = 0.0;
-      for (int q = 0; q < K; q += W) {
-        const VecD r[3] = {VecD(xi[0]) - VecD::load(py[0] + q), VecD(xi[1]) - VecD::load(py[1] + q),
-                           VecD(xi[2]) - VecD::load(py[2] + q)};
-        const VecD n[3] = {VecD::load(py[3] + q), VecD::load(py[4] + q), VecD::load(py[5] + q)};
-        VecD m[6] = {VecD(0.0), VecD(0.0), VecD(0.0), VecD(0.0), VecD(0.0), VecD(0.0)};
-        StressletNormalPair::eval(m, r, fmm::simd::rsqrt(fmm::simd::fma(r[0], r[0], fmm::simd::fma(r[1], r[1], r[2] * r[2]))), n);
-        alignas(64) double lanes[6][W];
-        for (int c = 0; c < 6; ++c) m[c].store(lanes[c]);
-        for (int l = 0; l < W; ++l)
-          for (int c = 0; c < 6; ++c) pm[8 * static_cast<size_t>(q + l) + static_cast<size_t>(c)] = lanes[c][l];
-      }
-      std::fill(&block_[6 * static_cast<size_t>(block_start_[i])], &block_[6 * static_cast<size_t>(block_start_[i + 1])], 0.0);
-      const int* slot = &slot_[static_cast<size_t>(slot_start_[i])];
-      int q = 0;
-      alignas(64) double acc[3][8];
-      // Adds `points` consecutive points with weights sign·bary(p)[k] to the element's accumulators.
-      auto add_points = [&](int points, auto bary, double sign) {
-        for (int p = 0; p < points; ++p, ++q) {
-          const double* mq = pm + 8 * static_cast<size_t>(q);
-          for (int k = 0; k < 3; ++k) {
-            const double w = sign * bary(p)[k];
-            for (int c = 0; c < 8; ++c) acc[k][c] += w * mq[c];
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads_)
+  for (Eigen::Index visit = 0; visit < n_nodes_; ++visit) {
+    const Eigen::Index i = node_order_[static_cast<size_t>(visit)];
+    const VecD xi[3] = {VecD(x(i, 0)), VecD(x(i, 1)), VecD(x(i, 2))};
+    std::fill(&block_[6 * static_cast<size_t>(block_start_[i])], &block_[6 * static_cast<size_t>(block_start_[i + 1])], 0.0);
+    const int* slot = &slot_[static_cast<size_t>(slot_start_[i])];  // 3 blocks per listed element, in list order
+    // Elements `list` (their slots from `slots` on): `rule` points (positions y, weighted normals n
+    // of `points` per element, barycentrics bary) with sign +1, then the far rule subtracted.
+    auto add_elements = [&](IndexRange list, const int* slots, const std::vector<double>* y, const std::vector<double>* n,
+                            int points, const double (*bary)[4]) {
+      const int count = static_cast<int>(list.size());
+      for (int l0 = 0; l0 < count; l0 += W) {
+        const int lanes = std::min(W, count - l0);
+        VecD acc[3][6];
+        for (auto& a : acc)
+          for (auto& c : a) c = VecD(0.0);
+        alignas(64) double g[6][W];
+        // One rule point of every lane's element: gather, evaluate, add with the point's weights.
+        auto point = [&](const std::vector<double>& py, const std::vector<double>& pn, int per_element, int p,
+                         const double* w, double sign) {
+          for (int l = 0; l < W; ++l) {
+            const size_t e = static_cast<size_t>(list.first[l0 + std::min(l, lanes - 1)]);
+            const double* yp = &py[3 * (static_cast<size_t>(per_element) * e + static_cast<size_t>(p))];
+            const double* np = &pn[3 * (static_cast<size_t>(per_element) * e + static_cast<size_t>(p))];
+            for (int d = 0; d < 3; ++d) g[d][l] = yp[d], g[3 + d][l] = l < lanes ? np[d] : 0.0;  // padding adds 0
           }
-        }
-      };
-      auto flush = [&](int e, const std::array<Mat3, 3>* singular) {
-        for (int k = 0; k < 3; ++k) {
-          double* b = &block_[6 * static_cast<size_t>(slot[k])];
-          for (int c = 0; c < 6; ++c) b[c] += acc[k][c];
-        }
-        if (singular) {
-          const int k0 = tri_(e, 0) == i ? 0 : (tri_(e, 1) == i ? 1 : 2);
-          for (int k = 0; k < 3; ++k) add(&block_[6 * static_cast<size_t>(slot[(k0 + k) % 3])], 1.0, (*singular)[static_cast<size_t>(k)]);
-        }
-        slot += 3;
-      };
-      auto far = [&](int p) { return far_bary[p]; };
-      for (int e : lists_.touching(i)) {
-        std::fill(&acc[0][0], &acc[0][0] + 24, 0.0);
-        add_points(3, far, -1.0);
-        if (surface_.curved()) {
-          const int k0 = tri_(e, 0) == i ? 0 : (tri_(e, 1) == i ? 1 : 2);
-          const auto Ms = singular_element_double_layer(surface_.element(x, e, k0), rule_, rule_u_);
-          flush(e, &Ms);
-        } else {
-          flush(e, nullptr);
-        }
+          const VecD r[3] = {xi[0] - VecD::load(g[0]), xi[1] - VecD::load(g[1]), xi[2] - VecD::load(g[2])};
+          const VecD nn[3] = {VecD::load(g[3]), VecD::load(g[4]), VecD::load(g[5])};
+          VecD m[6] = {VecD(0.0), VecD(0.0), VecD(0.0), VecD(0.0), VecD(0.0), VecD(0.0)};
+          StressletNormalPair::eval(m, r, fmm::simd::rsqrt(fmm::simd::fma(r[0], r[0], fmm::simd::fma(r[1], r[1], r[2] * r[2]))), nn);
+          for (int k = 0; k < 3; ++k) {
+            if (w[k] == 0.0) continue;  // the edge-midpoint rule's third vertex
+            const VecD wk(sign * w[k]);
+            for (int c = 0; c < 6; ++c) acc[k][c] = fmm::simd::fma(wk, m[c], acc[k][c]);
+          }
+        };
+        if (y)
+          for (int p = 0; p < points; ++p) point(*y, *n, points, p, bary[p], 1.0);
+        for (int p = 0; p < 3; ++p) point(slot_y_, slot_n_, 3, p, far_bary[p], -1.0);
+        alignas(64) double out[3][6][W];
+        for (int k = 0; k < 3; ++k)
+          for (int c = 0; c < 6; ++c) acc[k][c].store(out[k][c]);
+        for (int l = 0; l < lanes; ++l)
+          for (int k = 0; k < 3; ++k) {
+            double* bk = &block_[6 * static_cast<size_t>(slots[3 * (l0 + l) + k])];
+            for (int c = 0; c < 6; ++c) bk[c] += out[k][c][l];
+          }
       }
-      for (int e : lists_.ring(i)) {
-        std::fill(&acc[0][0], &acc[0][0] + 24, 0.0);
-        add_points(7, [](int p) { return kDunavant7[p]; }, 1.0);
-        add_points(3, far, -1.0);
-        flush(e, nullptr);
+    };
+    const IndexRange touching = lists_.touching(i), ring = lists_.ring(i), band = lists_.band(i);
+    add_elements(touching, slot, nullptr, nullptr, 0, nullptr);
+    if (surface_.curved()) {  // the touching elements' exact singular integrals
+      for (size_t j = 0; j < touching.size(); ++j) {
+        const int e = touching.first[j];
+        const int k0 = tri_(e, 0) == i ? 0 : (tri_(e, 1) == i ? 1 : 2);
+        const auto Ms = singular_element_double_layer(surface_.element(x, e, k0), rule_, rule_u_);
+        for (int k = 0; k < 3; ++k) add(&block_[6 * static_cast<size_t>(slot[3 * j + static_cast<size_t>((k0 + k) % 3)])], 1.0, Ms[static_cast<size_t>(k)]);
       }
-      for (int e : lists_.band(i)) {
-        std::fill(&acc[0][0], &acc[0][0] + 24, 0.0);
-        add_points(3, [](int p) { return kGaussBary[p]; }, 1.0);
-        add_points(3, far, -1.0);
-        flush(e, nullptr);
-      }
-      // Scale, then the diagonal ½ I − D̃[1](x_i): the far field of the unit constants plus the row sums.
-      double* Dg = &diagonal_[6 * static_cast<size_t>(i)];
-      const double* f = &unit_far_[6 * static_cast<size_t>(i)];
-      for (int k = 0; k < 6; ++k) Dg[k] = (k < 3 ? 0.5 : 0.0) - f[k];
-      for (int b = block_start_[i]; b < block_start_[i + 1]; ++b)
-        for (int k = 0; k < 6; ++k) {
-          block_[6 * static_cast<size_t>(b) + k] *= kInv8Pi;
-          Dg[k] -= block_[6 * static_cast<size_t>(b) + k];
-        }
     }
+    slot += 3 * touching.size();
+    add_elements(ring, slot, &ring_y_, &ring_n_, 7, kDunavant7);
+    slot += 3 * ring.size();
+    // The Gauss rule's barycentrics in rows of four like the 7-point table's (the fourth is unused).
+    static constexpr double kGauss4[3][4] = {{kGaussBary[0][0], kGaussBary[0][1], kGaussBary[0][2], 1.0},
+                                             {kGaussBary[1][0], kGaussBary[1][1], kGaussBary[1][2], 1.0},
+                                             {kGaussBary[2][0], kGaussBary[2][1], kGaussBary[2][2], 1.0}};
+    add_elements(band, slot, &band_y_, &band_n_, 3, kGauss4);
+    // Scale, then the diagonal ½ I − D̃[1](x_i): the far field of the unit constants plus the row sums.
+    double* Dg = &diagonal_[6 * static_cast<size_t>(i)];
+    const double* f = &unit_far_[6 * static_cast<size_t>(i)];
+    for (int k = 0; k < 6; ++k) Dg[k] = (k < 3 ? 0.5 : 0.0) - f[k];
+    for (int b = block_start_[i]; b < block_start_[i + 1]; ++b)
+      for (int k = 0; k < 6; ++k) {
+        block_[6 * static_cast<size_t>(b) + k] *= kInv8Pi;
+        Dg[k] -= block_[6 * static_cast<size_t>(b) + k];
+      }
   }
 }
 
@@ -307,7 +310,7 @@ void DoubleLayer::add_near_field(const Points& u, Points& out) const {
   }
 }
 
-void DoubleLayer::apply(const Points& u, Points& out) {
+void DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
   if (u.rows() != n_nodes_ || x_.rows() != n_nodes_)
     throw std::invalid_argument("double layer: set_surface() first, and one row of u per node");
   Stopwatch clock, total;
@@ -315,11 +318,16 @@ void DoubleLayer::apply(const Points& u, Points& out) {
   fill_far_densities(u);
   clock.lap(times_, Phase::BieSources);
   out.resize(n_nodes_, 3);
-  if (fmm_)
+  if (fmm_) {
     fmm_->evaluate(density_.data(), out.data());
-  else
+  } else if (fmm::kMixedPrecisionDirectSum && allowed_error >= kMixedPrecisionAllowedError) {
+    fmm::direct_sum_mixed<fmm::Stresslet>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(),
+                                          static_cast<std::size_t>(n_nodes_), out.data(), threads_);
+    ++mixed_applications_;
+  } else {
     fmm::direct_sum<fmm::Stresslet, 1, false>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(),
                                               static_cast<std::size_t>(n_nodes_), out.data(), threads_);
+  }
   clock.lap(times_, Phase::BieFar);
   add_near_field(u, out);
   clock.lap(times_, Phase::BieNear);

@@ -25,7 +25,7 @@ GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::Vecto
   VectorXd aux_v;
   while (true) {
     // True residual at every (re)start.
-    A(x, Av, aux);
+    A(x, Av, aux, 0.0);
     r = b - Av;
     double beta = norm(r);
     res.residual = beta;
@@ -41,7 +41,9 @@ GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::Vecto
     g[0] = beta;
     int k = 0;
     for (; k < m && res.iterations < opt.max_iterations; ++k) {
-      A(V[static_cast<size_t>(k)], Av, aux ? &W[static_cast<size_t>(k)] : nullptr);
+      // ‖r_k‖ = |g[k]|; the target is final after the first residual.
+      const double allowed = kGmresInexactMargin * target / std::abs(g[k]);
+      A(V[static_cast<size_t>(k)], Av, aux ? &W[static_cast<size_t>(k)] : nullptr, allowed);
       ++res.iterations;
       for (int j = 0; j <= k; ++j) {  // modified Gram–Schmidt
         H(j, k) = dot(Av, V[static_cast<size_t>(j)]);

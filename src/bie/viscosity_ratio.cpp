@@ -60,13 +60,14 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   Points Y(n, 3), DY, Y0, DY0;
   // y ↦ R y = y + κ (I − P) Ã y, with aux = Ã y = A y + n̂ (aᵀy)/(aᵀn̂) (y has no rigid part).
   // GMRES applies R to its initial guess first: D_h of it came with the double layer's set-up.
-  const GmresOperator R = [&](const VectorXd& y, VectorXd& Ry, VectorXd* aux) {
+  // R's error is |κ| ≤ 1 times Ã's, and Ã = 2 D + a rank-one term: D may err by half the allowance.
+  const GmresOperator R = [&](const VectorXd& y, VectorXd& Ry, VectorXd* aux, double allowed_error) {
     Eigen::Map<VectorXd>(Y.data(), Y.size()) = y;
     if (Y0.size() > 0 && Y == Y0) {
       DY = DY0;
       Y0.resize(0, 3);  // used once
     } else {
-      D_.apply(Y, DY);
+      D_.apply(Y, DY, 0.5 * allowed_error);
     }
     VectorXd Ay = 2.0 * flat(DY) + flat(nhat) * (flat(a).dot(y) / a_nhat);
     Ry = y + kappa * (Ay - project(Ay));

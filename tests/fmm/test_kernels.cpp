@@ -323,3 +323,43 @@ TEST(DirectSumMixed, MatchesDoublePrecisionWithinItsStatedAccuracy) {
     EXPECT_LT(emax / umax, 2e-6) << "shift " << shift;
   }
 }
+
+// The same for the stresslet (the double layer's inexact Krylov applications): densities (f, n)
+// with random f and the sphere's normals n, as the boundary integral passes them.
+TEST(DirectSumMixed, StressletMatchesDoublePrecisionWithinItsStatedAccuracy) {
+  std::mt19937_64 g(12);
+  std::normal_distribution<double> N;
+  const std::size_t ns = 6000, nt = 1500;
+  std::vector<double> s(3 * ns), t(3 * nt), d(6 * ns);
+  auto on_sphere = [&](double* p) {
+    double x = N(g), y = N(g), z = N(g);
+    const double r = std::sqrt(x * x + y * y + z * z);
+    p[0] = x / r, p[1] = y / r, p[2] = z / r;
+  };
+  for (std::size_t j = 0; j < ns; ++j) {
+    on_sphere(&s[3 * j]);
+    for (int k = 0; k < 3; ++k) d[6 * j + k] = N(g), d[6 * j + 3 + k] = s[3 * j + k] / static_cast<double>(ns);
+  }
+  for (std::size_t i = 0; i < nt; ++i) on_sphere(&t[3 * i]);
+  for (const double shift : {0.0, 100.0}) {
+    std::vector<double> ss = s, tt = t, ref(3 * nt), mixed(3 * nt, 7.0);
+    for (std::size_t j = 0; j < ns; ++j) ss[3 * j] += shift;
+    for (std::size_t i = 0; i < nt; ++i) tt[3 * i] += shift;
+    direct_sum<Stresslet>(ss.data(), ns, d.data(), tt.data(), nt, ref.data());
+    direct_sum_mixed<Stresslet>(ss.data(), ns, d.data(), tt.data(), nt, mixed.data());
+    double emax = 0, umax = 0, e2 = 0, u2 = 0;
+    for (std::size_t k = 0; k < 3 * nt; ++k) {
+      emax = std::max(emax, std::abs(mixed[k] - ref[k]));
+      umax = std::max(umax, std::abs(ref[k]));
+      e2 += (mixed[k] - ref[k]) * (mixed[k] - ref[k]);
+      u2 += ref[k] * ref[k];
+    }
+    // Per pair the float r carries ~6e-8 |r|, and r·n cancels for a source near the target on a
+    // smooth surface (r·n ~ |r|²/2 on the unit sphere): relative error ~6e-8/|r|. Random points
+    // come as close as ~1e-3, and those pairs dominate, so up to ~6e-5 — bounded by 1e-4 here (a
+    // wrong formula or density layout errs by O(1)). On capsule meshes the far field's closest
+    // pairs are ~h/2 apart: tests/core/bie/test_double_layer.cpp bounds that case at 2e-6.
+    EXPECT_LT(std::sqrt(e2 / u2), 1e-4) << "shift " << shift;
+    EXPECT_LT(emax / umax, 1e-3) << "shift " << shift;
+  }
+}

@@ -9,6 +9,7 @@
 
 #include "capsflow/core/bie/double_layer.hpp"
 #include "capsflow/core/mesh/generation.hpp"
+#include "capsflow/fmm/direct_sum_mixed.hpp"
 #include "support/gauss_kronrod.hpp"
 
 using namespace capsflow;
@@ -283,5 +284,36 @@ TEST(DoubleLayerSpheroid, SetUpWithItsFirstApplicationEqualsSetUpThenApply) {
     EXPECT_LT((Bu - Au).cwiseAbs().maxCoeff(), 1e-12 * scale) << to_string(b);
     EXPECT_LT((Bv - Av).cwiseAbs().maxCoeff(), 1e-12 * Av.cwiseAbs().maxCoeff()) << to_string(b);
     EXPECT_EQ(B.applications(), 2);  // the fused call counts as an application
+  }
+}
+
+// An inexact application (allowed_error ≥ 1e-5: an inexact Krylov step of the viscosity-ratio
+// solve) against the exact one at the levels where the direct far field is chosen, for a smooth
+// field and a random one (a Krylov vector need not be smooth). Single-precision pairs where the
+// build has AVX-512; the operator is the same otherwise.
+TEST(DoubleLayerSpheroid, InexactApplicationsStayWellWithinTheAllowedError) {
+  for (int level : {3, 4}) {
+    const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, level);
+    Points x = m.vertices, u(m.num_nodes(), 3);
+    x.col(2) *= 2.0;
+    for (Eigen::Index i = 0; i < x.rows(); ++i) u.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
+    const Points rough = Points::Random(m.num_nodes(), 3);
+    SingleLayerOptions opt;
+    opt.backend = BackendRequest::Direct;
+    opt.tolerance = 1e-6;
+    DoubleLayer D(m.triangles, m.num_nodes(), opt);
+    D.set_surface(x);
+    for (const Points* v : {static_cast<const Points*>(&u), &rough}) {
+      Points exact, inexact;
+      D.apply(*v, exact);
+      D.apply(*v, inexact, 1e-5);
+      // The application may err by 1e-5 relative to the input; the single-precision pairs must
+      // leave a 5× margin below it (the closest far-field pairs, ~h/2 apart, lose ~6e-8/(h/2)).
+      EXPECT_LT((inexact - exact).norm(), 2e-6 * exact.norm()) << "level " << level;
+      if (fmm::kMixedPrecisionDirectSum) {
+        EXPECT_GT((inexact - exact).norm(), 0.0);  // it did take the other path
+      }
+    }
+    EXPECT_EQ(D.mixed_precision_applications(), fmm::kMixedPrecisionDirectSum ? 2 : 0);
   }
 }

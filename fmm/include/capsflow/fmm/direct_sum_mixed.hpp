@@ -1,6 +1,7 @@
 #pragma once
-// capsflow::fmm::stokeslet_direct_sum_mixed — the Stokeslet direct sum (conventions of
-// stokeslet.hpp; output OVERWRITTEN) with every pair in single precision and the sums in double.
+// capsflow::fmm::direct_sum_mixed<Kernel> — a kernel's direct sum (conventions of direct_sum.hpp;
+// output OVERWRITTEN) with every pair in single precision and the sums in double;
+// stokeslet_direct_sum_mixed is the Stokeslet's (the single layer's far field).
 //
 // With AVX-512 a float vector holds 16 pairs against 8 for double. The
 // precision is kept where it matters:
@@ -10,8 +11,8 @@
 //     block's extent (close approach of two surfaces);
 //   - 1/|r| from the 14-bit hardware estimate plus one Newton step (~2⁻²⁷ relative);
 //   - float partial sums over at most kChunk sources are added to double accumulators.
-// Measured on capsule meshes: 1.3x the double kernel, max error 4e-7 of max |u|, 1e-7 in L2
-// (tests/fmm/test_kernels.cpp checks close-approach clouds too). Sources
+// Measured on capsule meshes (Stokeslet): 1.3x the double kernel, max error 4e-7 of max |u|, 1e-7
+// in L2 (tests/fmm/test_kernels.cpp checks close-approach clouds too, and the stresslet). Sources
 // must not coincide with targets (no r = 0 test). Without AVX-512: direct_sum (one Newton step).
 #include <omp.h>
 
@@ -28,19 +29,21 @@
 
 namespace capsflow::fmm {
 
-/// True when stokeslet_direct_sum_mixed really sums single-precision pairs (AVX-512 builds).
+/// True when direct_sum_mixed really sums single-precision pairs (AVX-512 builds).
 #if defined(__AVX512F__)
 inline constexpr bool kMixedPrecisionDirectSum = true;
 #else
 inline constexpr bool kMixedPrecisionDirectSum = false;
 #endif
 
-inline void stokeslet_direct_sum_mixed(const double* src, std::size_t n_src, const double* density, const double* trg,
-                                       std::size_t n_trg, double* out, int threads = 0) {
+template <class Kernel>
+void direct_sum_mixed(const double* src, std::size_t n_src, const double* density, const double* trg, std::size_t n_trg,
+                      double* out, int threads = 0) {
 #if !defined(__AVX512F__)
-  direct_sum<Stokeslet, 1, false>(src, n_src, density, trg, n_trg, out, threads);
+  direct_sum<Kernel, 1, false>(src, n_src, density, trg, n_trg, out, threads);
 #else
-  std::fill(out, out + 3 * n_trg, 0.0);
+  constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
+  std::fill(out, out + TD * n_trg, 0.0);
   if (n_src == 0 || n_trg == 0) return;
   constexpr int kVec = 2;  // float vectors of targets per block (1: 1.1x, 2: 1.34x, 3-4: 1.35x over double)
   constexpr std::size_t kBlock = 16 * kVec;
@@ -50,18 +53,17 @@ inline void stokeslet_direct_sum_mixed(const double* src, std::size_t n_src, con
   const std::size_t ns8 = (n_src + 7) / 8 * 8;
   // Scratch reused across calls (per thread): no allocation once the sizes are reached.
   static thread_local std::vector<double> sx, sy, sz;
-  static thread_local std::vector<float> fx, fy, fz;
+  static thread_local std::vector<float> fd;
   sx.assign(ns8, 0.0), sy.assign(ns8, 0.0), sz.assign(ns8, 0.0);
-  fx.resize(n_src), fy.resize(n_src), fz.resize(n_src);
+  fd.resize(SD * n_src);
   for (std::size_t j = 0; j < n_src; ++j) {
     sx[j] = src[3 * j], sy[j] = src[3 * j + 1], sz[j] = src[3 * j + 2];
-    fx[j] = static_cast<float>(density[3 * j]), fy[j] = static_cast<float>(density[3 * j + 1]);
-    fz[j] = static_cast<float>(density[3 * j + 2]);
+    for (int k = 0; k < SD; ++k) fd[k * n_src + j] = static_cast<float>(density[SD * j + k]);
   }
   const long nblocks = static_cast<long>((n_trg + kBlock - 1) / kBlock);
   const int nt = threads > 0 ? threads : omp_get_max_threads();
   const double *src_x = sx.data(), *src_y = sy.data(), *src_z = sz.data();  // the caller's thread_local
-  const float *den_x = fx.data(), *den_y = fy.data(), *den_z = fz.data();
+  const float* den = fd.data();
 #pragma omp parallel num_threads(nt)
   {
     static thread_local std::vector<float> ph[3], pl[3];  // sources relative to the block origin: hi, lo
@@ -93,45 +95,51 @@ inline void stokeslet_direct_sum_mixed(const double* src, std::size_t n_src, con
       __m512 TH[kVec][3], TL[kVec][3];
       for (int v = 0; v < kVec; ++v)
         for (int d = 0; d < 3; ++d) TH[v][d] = _mm512_load_ps(th[d] + 16 * v), TL[v][d] = _mm512_load_ps(tl[d] + 16 * v);
-      __m512d acc[6 * kVec];  // (vectors × 3 components) × (low, high 8 lanes)
+      __m512d acc[2 * TD * kVec];  // (vectors × TD components) × (low, high 8 lanes)
       for (auto& a : acc) a = _mm512_setzero_pd();
       for (std::size_t j0 = 0; j0 < n_src; j0 += kChunk) {
         const std::size_t j1 = std::min(n_src, j0 + kChunk);
-        simd::VecF u[kVec][3];
+        simd::VecF u[kVec][TD];
         for (auto& uv : u)
           for (auto& c : uv) c = _mm512_setzero_ps();
         for (std::size_t j = j0; j < j1; ++j) {
           const simd::VecF shx(ph[0][j]), shy(ph[1][j]), shz(ph[2][j]);
           const simd::VecF slx(pl[0][j]), sly(pl[1][j]), slz(pl[2][j]);
-          const simd::VecF g[3] = {simd::VecF(den_x[j]), simd::VecF(den_y[j]), simd::VecF(den_z[j])};
+          simd::VecF g[SD];
+          for (int k = 0; k < SD; ++k) g[k] = simd::VecF(den[k * n_src + j]);
           for (int v = 0; v < kVec; ++v) {
             const simd::VecF r[3] = {(simd::VecF(TH[v][0]) - shx) + (simd::VecF(TL[v][0]) - slx),
                                      (simd::VecF(TH[v][1]) - shy) + (simd::VecF(TL[v][1]) - sly),
                                      (simd::VecF(TH[v][2]) - shz) + (simd::VecF(TL[v][2]) - slz)};
             const simd::VecF r2 = simd::fma(r[0], r[0], simd::fma(r[1], r[1], r[2] * r[2]));
-            Stokeslet::eval(u[v], r, simd::rsqrt(r2), g);
+            Kernel::eval(u[v], r, simd::rsqrt(r2), g);
           }
         }
-        for (int k = 0; k < 3 * kVec; ++k) {
-          const __m512 uk = u[k / 3][k % 3].v;
+        for (int k = 0; k < TD * kVec; ++k) {
+          const __m512 uk = u[k / TD][k % TD].v;
           acc[2 * k] = _mm512_add_pd(acc[2 * k], _mm512_cvtps_pd(_mm512_castps512_ps256(uk)));
           acc[2 * k + 1] =
               _mm512_add_pd(acc[2 * k + 1], _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(uk), 1))));
         }
       }
-      alignas(64) double buf[3 * kVec][16];
-      for (int k = 0; k < 3 * kVec; ++k) {
+      alignas(64) double buf[TD * kVec][16];
+      for (int k = 0; k < TD * kVec; ++k) {
         _mm512_store_pd(buf[k], acc[2 * k]);
         _mm512_store_pd(buf[k] + 8, acc[2 * k + 1]);
       }
       for (std::size_t k = 0; k < ni; ++k) {
         const int v = static_cast<int>(k / 16);
         const std::size_t lane = k % 16;
-        for (int c = 0; c < 3; ++c) out[3 * (i0 + k) + c] = Stokeslet::scale() * buf[3 * v + c][lane];
+        for (int c = 0; c < TD; ++c) out[TD * (i0 + k) + c] = Kernel::scale() * buf[TD * v + c][lane];
       }
     }
   }
 #endif
+}
+
+inline void stokeslet_direct_sum_mixed(const double* src, std::size_t n_src, const double* density, const double* trg,
+                                       std::size_t n_trg, double* out, int threads = 0) {
+  direct_sum_mixed<Stokeslet>(src, n_src, density, trg, n_trg, out, threads);
 }
 
 }  // namespace capsflow::fmm

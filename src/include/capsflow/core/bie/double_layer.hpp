@@ -49,8 +49,10 @@ class DoubleLayer {
   // Du = D_h[u] on the new surface (as apply(u, Du)) from the same far-field pass: the first
   // application of an iterative solve for the price of the set-up's own pass plus a few percent.
   void set_surface(const Points& x, const Points* u = nullptr, Points* Du = nullptr);
-  // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
-  void apply(const Points& u, Points& out);
+  // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3). With
+  // allowed_error ≥ 1e-5 (an error the caller accepts, relative to ‖u‖: an inexact Krylov step) the
+  // direct far field sums its pairs in single precision where the build has AVX-512.
+  void apply(const Points& u, Points& out, double allowed_error = 0);
 
   FarFieldBackend backend() const { return backend_; }
   const std::string& backend_reason() const { return reason_; }
@@ -69,6 +71,7 @@ class DoubleLayer {
   double apply_seconds() const { return apply_seconds_; }
   long setups() const { return setups_; }
   long applications() const { return applications_; }
+  long mixed_precision_applications() const { return mixed_applications_; }
 
  private:
   void build_near_pattern();
@@ -102,10 +105,10 @@ class DoubleLayer {
   // 1/8π. slot_ maps (node, listed element) to the blocks of its 3 vertices, in list order.
   std::vector<int> block_start_, block_col_, slot_start_, slot_;
   std::vector<double> block_, diagonal_;
-  int max_points_per_node_ = 0;  // rule points of a node's listed elements (scratch size)
+  std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
   PhaseTimes times_;
   double setup_seconds_ = 0, apply_seconds_ = 0;
-  long setups_ = 0, applications_ = 0;
+  long setups_ = 0, applications_ = 0, mixed_applications_ = 0;
 };
 
 }  // namespace capsflow

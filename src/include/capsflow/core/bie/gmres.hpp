@@ -7,6 +7,14 @@
 // GMRES then returns aux(x) for the solution at no extra application (x = x0 + V z ⇒
 // aux(x) = aux(x0) + Σ z_j aux(v_j)). The second-kind solve uses it for the rigid-body part of its
 // solution (viscosity_ratio.hpp).
+//
+// Inexact applications (Simoncini & Szyld, SIAM J. Sci. Comput. 25, 2003; Bouras & Frayssé, SIAM
+// J. Matrix Anal. Appl. 26, 2005): as the residual falls, the Krylov vectors' images matter less,
+// so each application is told the error it may commit — for a unit vector v_k, an error up to
+// kGmresInexactMargin · target / ‖r_k‖ in the weighted norm, r_k the residual before it. The
+// error this adds to the final residual is then at most about that margin × the number of
+// iterations / the operator's smallest singular value, a small part of the target for the
+// well-conditioned second-kind operators it serves. Residuals at (re)starts ask for exact images.
 #include <functional>
 
 #include <Eigen/Core>
@@ -26,8 +34,11 @@ struct GmresResult {
   bool converged = false;
 };
 
-// y = A v (and, when aux is non-null, aux = aux(v)).
-using GmresOperator = std::function<void(const Eigen::VectorXd& v, Eigen::VectorXd& y, Eigen::VectorXd* aux)>;
+// y = A v (and, when aux is non-null, aux = aux(v)), with an error of at most `allowed_error` · ‖v‖
+// (weighted norm); 0: as exact as the operator can be.
+using GmresOperator =
+    std::function<void(const Eigen::VectorXd& v, Eigen::VectorXd& y, Eigen::VectorXd* aux, double allowed_error)>;
+inline constexpr double kGmresInexactMargin = 0.01;
 
 // Solves A x = b from the initial guess in x. `scale` > 0 sets the absolute target
 // tolerance · scale (e.g. ‖b‖, or the size of the solution one needs); scale ≤ 0 makes it relative
