@@ -21,6 +21,10 @@ constexpr double kFmmToleranceMargin = 0.25;
 // fmm/direct_sum_mixed.hpp, tests/fmm/test_kernels.cpp); taken when the caller allows 100× that
 // relative to the input (the operator's norm is O(1)).
 constexpr double kMixedPrecisionAllowedError = 1e-5;
+// With the FMM, inexact steps take a second FMM of a lower order: it asks for 2.5e-5 in relative
+// L2 and is taken when the step may err by 4× that.
+constexpr double kInexactFmmTolerance = 2.5e-5;
+constexpr double kInexactFmmAllowedError = 1e-4;
 
 inline void add(double* b, double c, const Mat3& m) {
   b[0] += c * m(0, 0), b[1] += c * m(1, 1), b[2] += c * m(2, 2);
@@ -56,6 +60,12 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     fo.order = opt.fmm_order;
     fo.threads = threads_;
     fmm_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fo);
+    if (opt.fmm_order <= 0 && kInexactFmmTolerance > fo.tolerance) {
+      fmm::FmmOptions fi = fo;
+      fi.tolerance = kInexactFmmTolerance;
+      fmm_inexact_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fi);
+      if (fmm_inexact_->order() >= fmm_->order()) fmm_inexact_.reset();  // no cheaper order to gain
+    }
   }
   const size_t m = static_cast<size_t>(tri_.rows()), ns = source_slots_.size();
   slot_y_.resize(9 * m), slot_n_.resize(9 * m);
@@ -66,6 +76,7 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
 }
 
 DoubleLayer::~DoubleLayer() = default;
+int DoubleLayer::inexact_fmm_order() const { return fmm_inexact_ ? fmm_inexact_->order() : 0; }
 DoubleLayer::DoubleLayer(DoubleLayer&&) noexcept = default;
 
 void DoubleLayer::build_near_pattern() {
@@ -117,6 +128,7 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
     throw std::invalid_argument("double layer: set_surface's first application needs u (one row per node) and Du");
   Stopwatch clock, total;
   x_ = x;
+  inexact_fmm_ready_ = false;  // its tree is set up on the first inexact step of this surface
   surface_.update(x, threads_);
   const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
   const Eigen::Index m = tri_.rows(), ns = far_field_sources();
@@ -318,12 +330,17 @@ void DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
   fill_far_densities(u);
   clock.lap(times_, Phase::BieSources);
   out.resize(n_nodes_, 3);
-  if (fmm_) {
+  if (fmm_inexact_ && allowed_error >= kInexactFmmAllowedError) {
+    if (!inexact_fmm_ready_) fmm_inexact_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), static_cast<std::size_t>(n_nodes_));
+    inexact_fmm_ready_ = true;
+    fmm_inexact_->evaluate(density_.data(), out.data());
+    ++inexact_applications_;
+  } else if (fmm_) {
     fmm_->evaluate(density_.data(), out.data());
   } else if (fmm::kMixedPrecisionDirectSum && allowed_error >= kMixedPrecisionAllowedError) {
     fmm::direct_sum_mixed<fmm::Stresslet>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(),
                                           static_cast<std::size_t>(n_nodes_), out.data(), threads_);
-    ++mixed_applications_;
+    ++inexact_applications_;
   } else {
     fmm::direct_sum<fmm::Stresslet, 1, false>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(),
                                               static_cast<std::size_t>(n_nodes_), out.data(), threads_);

@@ -314,6 +314,33 @@ TEST(DoubleLayerSpheroid, InexactApplicationsStayWellWithinTheAllowedError) {
         EXPECT_GT((inexact - exact).norm(), 0.0);  // it did take the other path
       }
     }
-    EXPECT_EQ(D.mixed_precision_applications(), fmm::kMixedPrecisionDirectSum ? 2 : 0);
+    EXPECT_EQ(D.inexact_applications(), fmm::kMixedPrecisionDirectSum ? 2 : 0);
   }
+}
+
+// With the FMM back end an inexact step (allowed_error ≥ 1e-4) takes a second FMM of a lower
+// order: its image must stay within the allowance, and it must really be a lower order.
+TEST(DoubleLayerSpheroid, InexactFmmApplicationsStayWithinTheAllowedError) {
+  const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
+  Points x = m.vertices, u(m.num_nodes(), 3);
+  x.col(2) *= 2.0;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) u.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
+  const Points rough = Points::Random(m.num_nodes(), 3);
+  SingleLayerOptions opt;
+  opt.backend = BackendRequest::Fmm;
+  opt.tolerance = 1e-6;
+  DoubleLayer D(m.triangles, m.num_nodes(), opt);
+  ASSERT_GT(D.inexact_fmm_order(), 0);
+  D.set_surface(x);
+  for (const Points* v : {static_cast<const Points*>(&u), &rough}) {
+    Points exact, inexact;
+    D.apply(*v, exact);
+    D.apply(*v, inexact, 1e-4);
+    // The allowance is 1e-4 relative; the lower-order FMM asks for 2.5e-5 in relative L2 (4×
+    // margin). The near field and the identity term are exact in both, so the far field's error
+    // relative to the whole image can only be smaller.
+    EXPECT_LT((inexact - exact).norm(), 1e-4 * exact.norm());
+    EXPECT_GT((inexact - exact).norm(), 0.0);  // the other FMM did run
+  }
+  EXPECT_EQ(D.inexact_applications(), 2);
 }

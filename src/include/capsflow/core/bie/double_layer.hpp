@@ -49,9 +49,10 @@ class DoubleLayer {
   // Du = D_h[u] on the new surface (as apply(u, Du)) from the same far-field pass: the first
   // application of an iterative solve for the price of the set-up's own pass plus a few percent.
   void set_surface(const Points& x, const Points* u = nullptr, Points* Du = nullptr);
-  // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3). With
-  // allowed_error ≥ 1e-5 (an error the caller accepts, relative to ‖u‖: an inexact Krylov step) the
-  // direct far field sums its pairs in single precision where the build has AVX-512.
+  // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
+  // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
+  // 1e-5 the direct far field sums its pairs in single precision (where the build has AVX-512),
+  // from 1e-4 the FMM back end uses a second FMM of a lower order (2.5e-5 in relative L2).
   void apply(const Points& u, Points& out, double allowed_error = 0);
 
   FarFieldBackend backend() const { return backend_; }
@@ -71,7 +72,9 @@ class DoubleLayer {
   double apply_seconds() const { return apply_seconds_; }
   long setups() const { return setups_; }
   long applications() const { return applications_; }
-  long mixed_precision_applications() const { return mixed_applications_; }
+  // Applications that used the cheaper inexact far field (single-precision pairs or the lower-order FMM).
+  long inexact_applications() const { return inexact_applications_; }
+  int inexact_fmm_order() const;  // 0 without one
 
  private:
   void build_near_pattern();
@@ -91,6 +94,8 @@ class DoubleLayer {
   FarFieldBackend backend_;
   std::string reason_;
   std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_;  // backend Fmm: set up once per surface
+  std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_inexact_;  // a lower order for inexact steps (backend Fmm)
+  bool inexact_fmm_ready_ = false;                  // fmm_inexact_ set up on the current surface
   Points x_;                          // the nodes of the last set_surface() (far-field targets)
   // Per slot 3e + k (element e's far-field point k): position (that of its source, so that the near
   // field subtracts exactly what the far field added) and weighted normal ñ = w n = N/6.
@@ -108,7 +113,7 @@ class DoubleLayer {
   std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
   PhaseTimes times_;
   double setup_seconds_ = 0, apply_seconds_ = 0;
-  long setups_ = 0, applications_ = 0, mixed_applications_ = 0;
+  long setups_ = 0, applications_ = 0, inexact_applications_ = 0;
 };
 
 }  // namespace capsflow
