@@ -3,6 +3,7 @@
 // sources != targets, empty inputs).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -287,14 +288,20 @@ TEST(DirectSum, SourcesDifferFromTargetsMatchesReference) {
   EXPECT_LT(rel_l2(ud, refd), 1e-13);  // the double-layer sum in full double precision; same bound
 }
 
-// The mixed-precision Stokeslet direct sum (single-precision pairs, double sums) against the
-// double one, on a surface-like cloud and the same cloud moved 100 units away (the per-block
-// shift must keep nearby pairs accurate far from the origin).
-TEST(DirectSumMixed, MatchesDoublePrecisionWithinItsStatedAccuracy) {
-  std::mt19937_64 g(11);
+namespace {
+struct MixedError {
+  double rel_l2, max_rel;
+};
+// The mixed-precision direct sum of kernel K against the double one on a surface-like cloud (6000
+// sources, 1500 targets on the unit sphere; densities set by density(source point, its density,
+// normal draws)), at shift 0 and with the cloud moved 100 units away (the per-block shift must keep
+// nearby pairs accurate far from the origin).
+template <class K, class Density>
+std::array<MixedError, 2> mixed_against_double(unsigned seed, Density density) {
+  std::mt19937_64 g(seed);
   std::normal_distribution<double> N;
   const std::size_t ns = 6000, nt = 1500;
-  std::vector<double> s(3 * ns), t(3 * nt), f(3 * ns);
+  std::vector<double> s(3 * ns), t(3 * nt), d(K::src_dim * ns);
   auto on_sphere = [&](double* p) {
     double x = N(g), y = N(g), z = N(g);
     const double r = std::sqrt(x * x + y * y + z * z);
@@ -302,64 +309,56 @@ TEST(DirectSumMixed, MatchesDoublePrecisionWithinItsStatedAccuracy) {
   };
   for (std::size_t j = 0; j < ns; ++j) on_sphere(&s[3 * j]);
   for (std::size_t i = 0; i < nt; ++i) on_sphere(&t[3 * i]);
-  for (auto& v : f) v = N(g);
-  for (const double shift : {0.0, 100.0}) {
-    std::vector<double> ss = s, tt = t, ref(3 * nt), mixed(3 * nt, 7.0);
+  for (std::size_t j = 0; j < ns; ++j) density(&s[3 * j], &d[K::src_dim * j], [&] { return N(g); });
+  std::array<MixedError, 2> err{};
+  for (int c = 0; c < 2; ++c) {
+    const double shift = c == 0 ? 0.0 : 100.0;
+    std::vector<double> ss = s, tt = t, ref(K::trg_dim * nt), mixed(K::trg_dim * nt, 7.0);
     for (std::size_t j = 0; j < ns; ++j) ss[3 * j] += shift;
     for (std::size_t i = 0; i < nt; ++i) tt[3 * i] += shift;
-    direct_sum<Stokeslet>(ss.data(), ns, f.data(), tt.data(), nt, ref.data());
-    stokeslet_direct_sum_mixed(ss.data(), ns, f.data(), tt.data(), nt, mixed.data());
+    direct_sum<K>(ss.data(), ns, d.data(), tt.data(), nt, ref.data());
+    direct_sum_mixed<K>(ss.data(), ns, d.data(), tt.data(), nt, mixed.data());
     double emax = 0, umax = 0, e2 = 0, u2 = 0;
-    for (std::size_t k = 0; k < 3 * nt; ++k) {
+    for (std::size_t k = 0; k < ref.size(); ++k) {
       emax = std::max(emax, std::abs(mixed[k] - ref[k]));
       umax = std::max(umax, std::abs(ref[k]));
       e2 += (mixed[k] - ref[k]) * (mixed[k] - ref[k]);
       u2 += ref[k] * ref[k];
     }
+    err[static_cast<std::size_t>(c)] = {std::sqrt(e2 / u2), emax / umax};
+  }
+  return err;
+}
+}  // namespace
+
+// The mixed-precision Stokeslet direct sum (single-precision pairs, double sums) against the
+// double one; random forces.
+TEST(DirectSumMixed, MatchesDoublePrecisionWithinItsStatedAccuracy) {
+  const auto err = mixed_against_double<Stokeslet>(11, [](const double*, double* f, auto draw) {
+    for (int k = 0; k < 3; ++k) f[k] = draw();
+  });
+  for (const MixedError& e : err) {
     // Float pairs carry ~6e-8 relative error each (rounding of r, rsqrt + 1 Newton step); with
     // random signs over 6000 sources the sum keeps ~1e-7 relative in L2. The max-norm bound
     // 2e-6 is the 1e-5 tolerance from which the boundary integral uses this sum, with a 5x margin.
-    EXPECT_LT(std::sqrt(e2 / u2), 5e-7) << "shift " << shift;
-    EXPECT_LT(emax / umax, 2e-6) << "shift " << shift;
+    EXPECT_LT(e.rel_l2, 5e-7);
+    EXPECT_LT(e.max_rel, 2e-6);
   }
 }
 
 // The same for the stresslet (the double layer's inexact Krylov applications): densities (f, n)
 // with random f and the sphere's normals n, as the boundary integral passes them.
 TEST(DirectSumMixed, StressletMatchesDoublePrecisionWithinItsStatedAccuracy) {
-  std::mt19937_64 g(12);
-  std::normal_distribution<double> N;
-  const std::size_t ns = 6000, nt = 1500;
-  std::vector<double> s(3 * ns), t(3 * nt), d(6 * ns);
-  auto on_sphere = [&](double* p) {
-    double x = N(g), y = N(g), z = N(g);
-    const double r = std::sqrt(x * x + y * y + z * z);
-    p[0] = x / r, p[1] = y / r, p[2] = z / r;
-  };
-  for (std::size_t j = 0; j < ns; ++j) {
-    on_sphere(&s[3 * j]);
-    for (int k = 0; k < 3; ++k) d[6 * j + k] = N(g), d[6 * j + 3 + k] = s[3 * j + k] / static_cast<double>(ns);
-  }
-  for (std::size_t i = 0; i < nt; ++i) on_sphere(&t[3 * i]);
-  for (const double shift : {0.0, 100.0}) {
-    std::vector<double> ss = s, tt = t, ref(3 * nt), mixed(3 * nt, 7.0);
-    for (std::size_t j = 0; j < ns; ++j) ss[3 * j] += shift;
-    for (std::size_t i = 0; i < nt; ++i) tt[3 * i] += shift;
-    direct_sum<Stresslet>(ss.data(), ns, d.data(), tt.data(), nt, ref.data());
-    direct_sum_mixed<Stresslet>(ss.data(), ns, d.data(), tt.data(), nt, mixed.data());
-    double emax = 0, umax = 0, e2 = 0, u2 = 0;
-    for (std::size_t k = 0; k < 3 * nt; ++k) {
-      emax = std::max(emax, std::abs(mixed[k] - ref[k]));
-      umax = std::max(umax, std::abs(ref[k]));
-      e2 += (mixed[k] - ref[k]) * (mixed[k] - ref[k]);
-      u2 += ref[k] * ref[k];
-    }
+  const auto err = mixed_against_double<Stresslet>(12, [](const double* y, double* d, auto draw) {
+    for (int k = 0; k < 3; ++k) d[k] = draw(), d[3 + k] = y[k] / 6000.0;
+  });
+  for (const MixedError& e : err) {
     // Per pair the float r carries ~6e-8 |r|, and r·n cancels for a source near the target on a
     // smooth surface (r·n ~ |r|²/2 on the unit sphere): relative error ~6e-8/|r|. Random points
     // come as close as ~1e-3, and those pairs dominate, so up to ~6e-5 — bounded by 1e-4 here (a
     // wrong formula or density layout errs by O(1)). On capsule meshes the far field's closest
     // pairs are ~h/2 apart: tests/core/bie/test_double_layer.cpp bounds that case at 2e-6.
-    EXPECT_LT(std::sqrt(e2 / u2), 1e-4) << "shift " << shift;
-    EXPECT_LT(emax / umax, 1e-3) << "shift " << shift;
+    EXPECT_LT(e.rel_l2, 1e-4);
+    EXPECT_LT(e.max_rel, 1e-3);
   }
 }

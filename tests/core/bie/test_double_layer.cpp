@@ -254,18 +254,30 @@ TEST(DoubleLayerSphere, FmmFarFieldMatchesTheDirectSum) {
   EXPECT_GT(diff, 0.0);  // the two sums did differ: the FMM path ran
 }
 
+namespace {
+// The nodes of an icosphere stretched to an a/b = 2 prolate spheroid, and a smooth field on them
+// with no symmetry that could hide an error.
+Points spheroid_nodes(const SurfaceMesh& m) {
+  Points x = m.vertices;
+  x.col(2) *= 2.0;
+  return x;
+}
+Points field_without_symmetry(const Points& x) {
+  Points u(x.rows(), 3);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) u.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
+  return u;
+}
+}  // namespace
+
 // set_surface(x, &u, &Du) — the set-up with its first application from the same far-field pass
 // (the viscosity-ratio solve's initial residual) — against set_surface(x) then apply(u), on an
 // a/b = 2 spheroid with a field of no symmetry, for both far-field back ends, and the operator
 // applied afterwards to another field is unchanged by the fused call.
 TEST(DoubleLayerSpheroid, SetUpWithItsFirstApplicationEqualsSetUpThenApply) {
   const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 3);
-  Points x = m.vertices, u(m.num_nodes(), 3), v(m.num_nodes(), 3);
-  x.col(2) *= 2.0;
-  for (Eigen::Index i = 0; i < x.rows(); ++i) {
-    u.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
-    v.row(i) << std::sin(x(i, 0)), x(i, 1) * x(i, 1), -x(i, 2);
-  }
+  const Points x = spheroid_nodes(m), u = field_without_symmetry(x);
+  Points v(m.num_nodes(), 3);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) v.row(i) << std::sin(x(i, 0)), x(i, 1) * x(i, 1), -x(i, 2);
   for (BackendRequest b : {BackendRequest::Direct, BackendRequest::Fmm}) {
     SingleLayerOptions opt;
     opt.backend = b;
@@ -294,9 +306,7 @@ TEST(DoubleLayerSpheroid, SetUpWithItsFirstApplicationEqualsSetUpThenApply) {
 TEST(DoubleLayerSpheroid, InexactApplicationsStayWellWithinTheAllowedError) {
   for (int level : {3, 4}) {
     const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, level);
-    Points x = m.vertices, u(m.num_nodes(), 3);
-    x.col(2) *= 2.0;
-    for (Eigen::Index i = 0; i < x.rows(); ++i) u.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
+    const Points x = spheroid_nodes(m), u = field_without_symmetry(x);
     const Points rough = Points::Random(m.num_nodes(), 3);
     SingleLayerOptions opt;
     opt.backend = BackendRequest::Direct;
@@ -322,9 +332,7 @@ TEST(DoubleLayerSpheroid, InexactApplicationsStayWellWithinTheAllowedError) {
 // order: its image must stay within the allowance, and it must really be a lower order.
 TEST(DoubleLayerSpheroid, InexactFmmApplicationsStayWithinTheAllowedError) {
   const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
-  Points x = m.vertices, u(m.num_nodes(), 3);
-  x.col(2) *= 2.0;
-  for (Eigen::Index i = 0; i < x.rows(); ++i) u.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
+  const Points x = spheroid_nodes(m), u = field_without_symmetry(x);
   const Points rough = Points::Random(m.num_nodes(), 3);
   SingleLayerOptions opt;
   opt.backend = BackendRequest::Fmm;
