@@ -71,6 +71,24 @@ void GsmbWall::init(const Points& X, const Points& D) {
       for (int p = topo_.adj_ptr[i]; p < topo_.adj_ptr[i + 1]; ++p)
         for (int l = 0; l < 2; ++l) trip.emplace_back(2 * i + k, 2 * topo_.adj[p] + l, 0.0);
   }
+  // each node's incident elements in the order of their colours (evaluate's summation order)
+  std::vector<int> colour(topo_.n_elems);
+  for (size_t c = 0; c < topo_.colors.size(); ++c)
+    for (const int e : topo_.colors[c]) colour[e] = static_cast<int>(c);
+  gather_elem_.resize(topo_.inc_elem.size());
+  gather_local_.resize(topo_.inc_elem.size());
+  std::vector<int> order;
+  for (int i = 0; i < n; ++i) {
+    const int p0 = topo_.inc_ptr[i], p1 = topo_.inc_ptr[i + 1];
+    order.resize(p1 - p0);
+    for (int k = 0; k < p1 - p0; ++k) order[k] = p0 + k;
+    std::sort(order.begin(), order.end(),
+              [&](int u, int v) { return colour[topo_.inc_elem[u]] < colour[topo_.inc_elem[v]]; });
+    for (int k = 0; k < p1 - p0; ++k) {
+      gather_elem_[p0 + k] = topo_.inc_elem[order[k]];
+      gather_local_[p0 + k] = topo_.inc_local[order[k]];
+    }
+  }
   K_.resize(2 * n, 2 * n);
   K_.setFromTriplets(trip.begin(), trip.end());
   K_.makeCompressed();
@@ -91,97 +109,91 @@ void GsmbWall::rotate(const Eigen::VectorXd& w) {
 
 void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K,
                         bool want_fx) {
-  const int n = topo_.n_nodes;
+  const int n = topo_.n_nodes, ne = topo_.n_elems;
   if (x.rows() != n) throw std::invalid_argument("GsmbWall: x has the wrong number of rows");
-  // pack the nodal data read by the elements (x, d, -t2, t1: 12 doubles) and the accumulators
-  // (fx, g: 6 doubles) node by node, so that an element touches 3 + 3 short records
-  nodes_.resize(n);
-  acc_.resize(n);
-#pragma omp parallel for schedule(static) if (n > kParallelNodes)
-  for (int i = 0; i < n; ++i) {
-    NodeRec& r = nodes_[i];
-    for (int c = 0; c < 3; ++c) {
-      r.v[c] = x(i, c);
-      r.v[3 + c] = triads_.d(i, c);
-      r.v[6 + c] = -triads_.t2(i, c);
-      r.v[9 + c] = triads_.t1(i, c);
-    }
-    acc_[i].fill(0.0);
-  }
+  // One team for the whole pass, with one barrier: every element writes its nodal contributions to
+  // its own record (any thread count, any order), then every node sums its elements' records in the
+  // order of their colours — the order in which the colour-by-colour assembly added them, so the
+  // sums are those of a serial pass for any thread count.
+  eout_.resize(ne);
   double* Kv = K_.valuePtr();
-  if (want_K) std::fill(Kv, Kv + K_.nonZeros(), 0.0);
-  for (const auto& col : topo_.colors) {
-    const int ne = static_cast<int>(col.size());
-#pragma omp parallel for schedule(static) if (ne > kParallelGsmbColour)
-    for (int k = 0; k < ne; ++k) {
-      const int e = col[k];
+#pragma omp parallel if (ne > kParallelGsmbPass)
+  {
+#pragma omp for schedule(static)
+    for (int e = 0; e < ne; ++e) {
       const ElementRef& R = ref_[e];
       const auto& nd = R.m.n;
       Vec3 xe[3], de[3], T[3][2];
       for (int a = 0; a < 3; ++a) {
-        const double* v = nodes_[nd[a]].v;
-        xe[a] = Vec3(v[0], v[1], v[2]);
-        de[a] = Vec3(v[3], v[4], v[5]);
-        T[a][0] = Vec3(v[6], v[7], v[8]);
-        T[a][1] = Vec3(v[9], v[10], v[11]);
+        const int i = nd[a];
+        xe[a] = x.row(i);
+        de[a] = triads_.d.row(i);
+        T[a][0] = -triads_.t2.row(i);
+        T[a][1] = triads_.t1.row(i);
       }
       BsOut o;
       bs_element(R, xe, de, T, o, want_K);
+      ElementOut& out = eout_[e];
       if (want_fx) {
         Vec3 fm[3];
         membrane_element(R.m, law_, xe, fm, false);
-        for (int a = 0; a < 3; ++a) {
-          double* acc = acc_[nd[a]].data();
-          for (int c = 0; c < 3; ++c) {
-            acc[c] += fm[a][c] + o.fx[a][c];
-            acc[3 + c] += o.g[a][c];
-          }
-        }
-      } else {
-        for (int a = 0; a < 3; ++a) {
-          double* acc = acc_[nd[a]].data();
-          for (int c = 0; c < 3; ++c) acc[3 + c] += o.g[a][c];
-        }
+        for (int a = 0; a < 3; ++a)
+          for (int c = 0; c < 3; ++c) out.f[a][c] = fm[a][c] + o.fx[a][c];
+      }
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) out.f[a][3 + c] = o.g[a][c];
+      if (want_K)
+        for (int r = 0; r < 6; ++r)
+          for (int c = 0; c < 6; ++c) out.K[r][c] = o.K[r][c];
+    }
+    // per node: forces, director forces, tangent rows, residual and geometric term
+#pragma omp for schedule(static)
+    for (int i = 0; i < n; ++i) {
+      double acc[6] = {0, 0, 0, 0, 0, 0};
+      const int p0 = topo_.inc_ptr[i], p1 = topo_.inc_ptr[i + 1];
+      for (int p = p0; p < p1; ++p) {
+        const double* f = eout_[gather_elem_[p]].f[gather_local_[p]];
+        if (want_fx)
+          for (int c = 0; c < 3; ++c) acc[c] += f[c];
+        for (int c = 3; c < 6; ++c) acc[c] += f[c];
+      }
+      for (int c = 0; c < 3; ++c) {
+        fx_(i, c) = acc[c];
+        g_(i, c) = acc[3 + c];
       }
       if (want_K) {
-        const auto& pp = topo_.pair_pos[e];
-        for (int a = 0; a < 3; ++a) {
-          const int i = nd[a];
+        double* row0 = Kv + row_base_[i];
+        std::fill(row0, row0 + 2 * row_len2_[i], 0.0);
+        for (int p = p0; p < p1; ++p) {
+          const int e = gather_elem_[p], a = gather_local_[p];
+          const auto& pp = topo_.pair_pos[e];
+          const ElementOut& out = eout_[e];
           for (int b = 0; b < 3; ++b) {
             const int pos = 2 * pp[a * 3 + b];
             for (int kk = 0; kk < 2; ++kk) {
-              double* rowp = Kv + row_base_[i] + kk * row_len2_[i] + pos;
-              rowp[0] += o.K[2 * a + kk][2 * b];
-              rowp[1] += o.K[2 * a + kk][2 * b + 1];
+              double* rowp = row0 + kk * row_len2_[i] + pos;
+              rowp[0] += out.K[2 * a + kk][2 * b];
+              rowp[1] += out.K[2 * a + kk][2 * b + 1];
             }
           }
         }
       }
-    }
-  }
-#pragma omp parallel for schedule(static) if (n > kParallelNodes)
-  for (int i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) {
-      fx_(i, c) = acc_[i][c];
-      g_(i, c) = acc_[i][3 + c];
-    }
-  // nodal residual and geometric term
-#pragma omp parallel for schedule(static) if (n > kParallelNodes)
-  for (int i = 0; i < n; ++i) {
-    const Vec3 gi = g_.row(i);
-    Rth_[2 * i] = -triads_.t2.row(i).dot(gi);
-    Rth_[2 * i + 1] = triads_.t1.row(i).dot(gi);
-    if (want_K) {
-      const int dp = row_base_[i] + 2 * topo_.diag_pos[i];
-      if (opt_.geometric_tangent) {
-        // exact second-order term of the exponential map, floored (geometric_floor_)
-        const double kmin = std::min(Kv[dp], Kv[dp + row_len2_[i] + 1]);
-        const double c = std::max(-gi.dot(triads_.d.row(i)), -geometric_floor_ * kmin);
-        Kv[dp] += c;
-        Kv[dp + row_len2_[i] + 1] += c;
+      // nodal residual and geometric term
+      const Vec3 gi = g_.row(i);
+      Rth_[2 * i] = -triads_.t2.row(i).dot(gi);
+      Rth_[2 * i + 1] = triads_.t1.row(i).dot(gi);
+      if (want_K) {
+        const int dp = row_base_[i] + 2 * topo_.diag_pos[i];
+        if (opt_.geometric_tangent) {
+          // exact second-order term of the exponential map, floored (geometric_floor_)
+          const double kmin = std::min(Kv[dp], Kv[dp + row_len2_[i] + 1]);
+          const double c = std::max(-gi.dot(triads_.d.row(i)), -geometric_floor_ * kmin);
+          Kv[dp] += c;
+          Kv[dp + row_len2_[i] + 1] += c;
+        }
+        kdiag_[2 * i] = Kv[dp];
+        kdiag_[2 * i + 1] = Kv[dp + row_len2_[i] + 1];
       }
-      kdiag_[2 * i] = Kv[dp];
-      kdiag_[2 * i + 1] = Kv[dp + row_len2_[i] + 1];
     }
   }
   if (fx) *fx = fx_;

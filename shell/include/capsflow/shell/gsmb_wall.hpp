@@ -114,9 +114,15 @@ class GsmbWall : public Wall {
   NodalTriads triads_;
   NodalTriads start_;  // predicted triads at the start of a solve (retry from them)
   Points fx_, g_;
-  struct NodeRec { double v[12]; };  // x, d, -t2, t1 of one node (element-pass input)
-  std::vector<NodeRec> nodes_;
-  std::vector<std::array<double, 6>> acc_;  // fx, g accumulators of one node
+  // What one element of the pass gives its three nodes: f[a] = (x-forces, director forces) of
+  // local node a, K the material theta-theta block (when the pass builds the tangent).
+  struct ElementOut {
+    double f[3][6];
+    double K[6][6];
+  };
+  std::vector<ElementOut> eout_;
+  // node i's incident elements (and i's local index in each) ordered by colour: [inc_ptr[i], inc_ptr[i+1])
+  std::vector<int> gather_elem_, gather_local_;
   SpMatR K_;
   std::vector<int> row_base_, row_len2_;  // K value index of node-row i: 4*adj_ptr[i], 2*deg(i)
   Eigen::VectorXd Rth_, dw_, kdiag_;

@@ -19,8 +19,10 @@ inline constexpr int kParallelNodes = 4096;
 inline constexpr int kParallelLumpedNodes = 2048;
 /// Element areas of the mass matrix (one cross product per element).
 inline constexpr int kParallelAreaElements = 4096;
-/// Elements of one colour in the GSMB element pass (bending + shear kernel, optional membrane).
-inline constexpr int kParallelGsmbColour = 256;
+/// Elements of a GSMB element pass, which runs as one team with one barrier (elements, then the
+/// node-wise sums): ~450 ns per element against ~50 µs for the team and ~25 µs for the barrier
+/// gives a break-even near 330 elements; this is twice that. (Re-measure: docs/shell.md §2.7.)
+inline constexpr int kParallelGsmbPass = 768;
 /// Elements of one colour in the membrane-only force pass (was 512: a team per colour cost more
 /// than it saved below ~5 000 elements per colour, i.e. on every mesh up to ~40 000 elements).
 inline constexpr int kParallelMembraneColour = 4096;

@@ -1,9 +1,10 @@
 #pragma once
 // Mesh connectivity built once per mesh: node -> element incidence, node adjacency (the sparsity
 // pattern of nodal matrices), and a greedy element colouring (no two elements of one colour share
-// a node). Assembly loops run colour by colour, elements of a colour in parallel, each element
-// adding directly into nodal arrays: the summation order at every node is fixed by the colouring,
-// so results are bit-identical for any thread count.
+// a node). The membrane pass runs colour by colour, elements of a colour in parallel, each element
+// adding directly into nodal arrays; the GSMB pass stores each element's contributions and sums
+// them node by node in colour order. Either way the summation order at every node is fixed by the
+// colouring, so results are bit-identical for any thread count.
 #include <array>
 #include <vector>
 
