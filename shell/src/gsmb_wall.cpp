@@ -1,5 +1,7 @@
 #include "capsflow/shell/gsmb_wall.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -117,9 +119,10 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
   // sums are those of a serial pass for any thread count.
   eout_.resize(ne);
   double* Kv = K_.valuePtr();
+  par::TeamBarrier barrier;
 #pragma omp parallel if (ne > kParallelGsmbPass)
   {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
     for (int e = 0; e < ne; ++e) {
       const ElementRef& R = ref_[e];
       const auto& nd = R.m.n;
@@ -146,6 +149,7 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
         for (int r = 0; r < 6; ++r)
           for (int c = 0; c < 6; ++c) out.K[r][c] = o.K[r][c];
     }
+    barrier.wait(omp_get_num_threads());
     // per node: forces, director forces, tangent rows, residual and geometric term
 #pragma omp for schedule(static)
     for (int i = 0; i < n; ++i) {

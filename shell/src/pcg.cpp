@@ -1,5 +1,7 @@
 #include "capsflow/shell/pcg.hpp"
 
+#include <omp.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -66,27 +68,42 @@ BlockPcg::BlockPcg(int block_size, int columns) : bs_(block_size), k_(columns) {
 
 namespace {
 
-// The PCG of BlockPcg::solve for a block size BS and K columns known at compile time, so that the
-// per-row sums of a matrix pass stay in registers (with K a run-time value they went through
-// memory: a store-to-load dependency on every non-zero, ~80 % of the solve's time).
+// Block rows per chunk of the PCG's reductions: each chunk's partial sums run in row order, the
+// chunks' partials are added in chunk order. Chunks depend on n only, so the sums are the same for
+// any thread count; 64 block rows split 2 562 nodes into 41 chunks, balanced on 2–16 threads.
+constexpr long kPcgChunk = 64;
+
+// Where one thread's partial sums of a reduction go: slots per chunk.
+constexpr int kSlots = 1 + kMaxColumns;
+
+// The PCG of BlockPcg::solve for a block size BS and K columns known at compile time (a row's
+// sums of a matrix pass stay in registers), in ONE parallel region for the whole solve: the team
+// is started once per solve and each iteration has two barriers (TeamBarrier), one after each
+// reduction. Every thread owns a contiguous range of chunks; after a barrier every thread adds all
+// chunks' partials itself, in chunk order, so all threads take the same decisions (no broadcast).
+//
+// Per iteration: pass A — p = z + β p_old on own rows, q = A p, partial p·q — and pass B —
+// x += α p, r −= α q, z = P r, partial r·r and r·z. On a team, pass A computes the p it reads from
+// neighbouring rows itself, z_j + β p_old,j, from the previous iteration's vectors (p is double
+// buffered), instead of waiting at a third barrier for their owners to store it: the same
+// rounding, so the same bits. Every multiply-add is fused explicitly (par::fmadd), so the three
+// forms of pass A (first iteration, one thread, a team) agree bit for bit.
 template <int BS, int K>
 int pcg_solve(const SpMatR& A, const double* pinv, const double* b, double* x, double tol, int max_iter,
-              double* relres, bool x_is_guess, double* r, double* z, double* p, double* q, double* part) {
-  // Three fused passes per iteration (q = A p with p.q; x/r update with z = P r, r.z, r.r;
-  // p = z + beta p), each over fixed chunks of block rows with per-chunk partial sums added
-  // serially: deterministic for any thread count, and few synchronisation points.
+              double* relres, bool x_is_guess, double* r, double* z, double* p_a, double* p_b, double* q, double* part) {
+  using par::fmadd;
   const long n = A.rows();
   const long nb = n / BS;
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   const double* val = A.valuePtr();
-  constexpr long C = 1024;  // block rows per chunk: fixes the summation order (changing it changes the last bits)
-  constexpr int kSlots = 3 * kMaxColumns;  // partial sums per chunk
-  const long nc = (nb + C - 1) / C;
-  const bool par = n * K > kParallelPcgEntries;
-  auto sum = [&](int slot) {
+  const long nc = (nb + kPcgChunk - 1) / kPcgChunk;
+  double* part_init = part;                   // b·b, r·r, r·z per column: 2 + K slots per chunk
+  double* part_a = part + (2 + K) * nc;       // p·q per column
+  double* part_b = part_a + kSlots * nc;      // r·r, r·z per column
+  auto sum = [&](const double* pp, int stride, int slot) {
     double s = 0;
-    for (long c = 0; c < nc; ++c) s += part[kSlots * c + slot];
+    for (long c = 0; c < nc; ++c) s += pp[stride * c + slot];
     return s;
   };
   // z = P r on one block of rows, every column.
@@ -95,121 +112,148 @@ int pcg_solve(const SpMatR& A, const double* pinv, const double* b, double* x, d
     for (int i = 0; i < BS; ++i)
       for (int c = 0; c < K; ++c) {
         double s = 0;
-        for (int j = 0; j < BS; ++j) s += P[i * BS + j] * r[(blk * BS + j) * K + c];
+        for (int j = 0; j < BS; ++j) s = fmadd(P[i * BS + j], r[(blk * BS + j) * K + c], s);
         z[(blk * BS + i) * K + c] = s;
       }
   };
-  // Row `row` of A times the n × K vector v, into out[0..K) (summed in registers, in pattern order).
-  auto row_times = [&](long row, const double* v, double* out) {
+  // Row `row` of A times the vector whose row j is vec(j, c), into out[0..K), in pattern order.
+  auto row_times = [&](long row, double* out, auto&& vec) {
     double s[K];
     for (int c = 0; c < K; ++c) s[c] = 0;
     for (int k = outer[row]; k < outer[row + 1]; ++k) {
       const double m = val[k];
-      const double* vk = v + static_cast<long>(inner[k]) * K;
-      for (int c = 0; c < K; ++c) s[c] += m * vk[c];
+      const long j = inner[k];
+      for (int c = 0; c < K; ++c) s[c] = fmadd(m, vec(j, c), s[c]);
     }
     for (int c = 0; c < K; ++c) out[c] = s[c];
   };
-  // r = b − A x0 (x0 = 0 unless x_is_guess), z = P r, p = z; partials b.b, r.z per column, r.r
-#pragma omp parallel for schedule(static) if (par)
-  for (long ch = 0; ch < nc; ++ch) {
-    double bb = 0, rr = 0, rz[K];
-    for (int c = 0; c < K; ++c) rz[c] = 0;
-    const long e = std::min(nb, (ch + 1) * C);
-    for (long blk = ch * C; blk < e; ++blk) {
-      for (int i = 0; i < BS; ++i) {
-        const long row = blk * BS + i;
-        double ax[K];
-        for (int c = 0; c < K; ++c) ax[c] = 0;
-        if (x_is_guess) row_times(row, x, ax);
-        for (int c = 0; c < K; ++c) {
-          const long k = row * K + c;
-          if (!x_is_guess) x[k] = 0;
-          r[k] = b[k] - ax[c];
-          bb += b[k] * b[k];
-          rr += r[k] * r[k];
-        }
-      }
-      precond_block(blk);
-      for (int i = 0; i < BS; ++i)
-        for (int c = 0; c < K; ++c) {
-          const long k = (blk * BS + i) * K + c;
-          p[k] = z[k];
-          rz[c] += r[k] * z[k];
-        }
-    }
-    part[kSlots * ch] = bb;
-    part[kSlots * ch + 1] = rr;
-    for (int c = 0; c < K; ++c) part[kSlots * ch + 2 + c] = rz[c];
-  }
-  const double bnorm = std::sqrt(sum(0));
-  double rn = std::sqrt(sum(1));
-  double rz[K];
-  for (int c = 0; c < K; ++c) rz[c] = sum(2 + c);
-  if (relres) *relres = 0;
-  if (bnorm == 0) {
-    std::fill(x, x + n * K, 0.0);
-    return 0;
-  }
-  int it = 0;
-  while (rn > tol * bnorm && it < max_iter) {
-#pragma omp parallel for schedule(static) if (par)
-    for (long ch = 0; ch < nc; ++ch) {
-      double pq[K];
-      for (int c = 0; c < K; ++c) pq[c] = 0;
-      const long e = std::min(n, (ch + 1) * C * BS);
-      for (long row = ch * C * BS; row < e; ++row) {
-        row_times(row, p, q + row * K);
-        for (int c = 0; c < K; ++c) pq[c] += p[row * K + c] * q[row * K + c];
-      }
-      for (int c = 0; c < K; ++c) part[kSlots * ch + c] = pq[c];
-    }
-    // A column whose matrix is not positive along p (or that has converged exactly) stops moving.
-    double alpha[K];
-    bool any = false;
-    for (int c = 0; c < K; ++c) {
-      const double pq = sum(c);
-      alpha[c] = pq > 0 ? rz[c] / pq : 0.0;
-      any = any || pq > 0;
-    }
-    if (!any) break;  // not positive definite along p: return the current iterate
-#pragma omp parallel for schedule(static) if (par)
-    for (long ch = 0; ch < nc; ++ch) {
-      double rr = 0, rzp[K];
-      for (int c = 0; c < K; ++c) rzp[c] = 0;
-      const long e = std::min(nb, (ch + 1) * C);
-      for (long blk = ch * C; blk < e; ++blk) {
-        for (int i = 0; i < BS; ++i)
+  const bool team = n * K > kParallelPcgEntries;
+  par::TeamBarrier barrier;
+  int iterations = 0;
+  double final_rn = 0, bnorm_out = 0;
+#pragma omp parallel if (team)
+  {
+    const int T = omp_get_num_threads(), tid = omp_get_thread_num();
+    long ch0, ch1;
+    par::thread_range(nc, tid, T, ch0, ch1);
+    const long blk0 = ch0 * kPcgChunk, blk1 = std::min(nb, ch1 * kPcgChunk);
+    // r = b − A x0 (x0 = 0 unless x_is_guess), z = P r, p = z; partials b.b, r.r, r.z per column
+    for (long ch = ch0; ch < ch1; ++ch) {
+      double bb = 0, rr = 0, rz[K];
+      for (int c = 0; c < K; ++c) rz[c] = 0;
+      const long e = std::min(nb, (ch + 1) * kPcgChunk);
+      for (long blk = ch * kPcgChunk; blk < e; ++blk) {
+        for (int i = 0; i < BS; ++i) {
+          const long row = blk * BS + i;
+          double ax[K];
+          for (int c = 0; c < K; ++c) ax[c] = 0;
+          if (x_is_guess) row_times(row, ax, [&](long j, int c) { return x[j * K + c]; });
           for (int c = 0; c < K; ++c) {
-            const long k = (blk * BS + i) * K + c;
-            x[k] += alpha[c] * p[k];
-            r[k] -= alpha[c] * q[k];
-            rr += r[k] * r[k];
+            const long k = row * K + c;
+            if (!x_is_guess) x[k] = 0;
+            r[k] = b[k] - ax[c];
+            bb = fmadd(b[k], b[k], bb);
+            rr = fmadd(r[k], r[k], rr);
           }
+        }
         precond_block(blk);
         for (int i = 0; i < BS; ++i)
           for (int c = 0; c < K; ++c) {
             const long k = (blk * BS + i) * K + c;
-            rzp[c] += r[k] * z[k];
+            p_a[k] = z[k];
+            rz[c] = fmadd(r[k], z[k], rz[c]);
           }
       }
-      part[kSlots * ch] = rr;
-      for (int c = 0; c < K; ++c) part[kSlots * ch + 1 + c] = rzp[c];
+      double* pp = part_init + (2 + K) * ch;
+      pp[0] = bb;
+      pp[1] = rr;
+      for (int c = 0; c < K; ++c) pp[2 + c] = rz[c];
     }
-    ++it;
-    rn = std::sqrt(sum(0));
-    if (rn <= tol * bnorm) break;
-    double beta[K];
-    for (int c = 0; c < K; ++c) {
-      const double rz_new = sum(1 + c);
-      beta[c] = rz[c] > 0 ? rz_new / rz[c] : 0.0;
-      rz[c] = rz_new;
+    barrier.wait(T);
+    const double bnorm = std::sqrt(sum(part_init, 2 + K, 0));
+    double rn = std::sqrt(sum(part_init, 2 + K, 1));
+    double rz[K], beta[K];
+    for (int c = 0; c < K; ++c) rz[c] = sum(part_init, 2 + K, 2 + c);
+    int it = 0;
+    double* p_old = p_b;  // p of the previous iteration
+    double* p = p_a;      // p of this iteration (p_a = z already)
+    if (bnorm == 0) {
+      for (long k = blk0 * BS * K; k < blk1 * BS * K; ++k) x[k] = 0;
+    } else {
+      while (rn > tol * bnorm && it < max_iter) {
+        // pass A: p (unless first), q = A p, partials p.q
+        if (it > 0 && T == 1) {
+          for (long k = 0; k < n * K; ++k) p[k] = fmadd(beta[k % K], p_old[k], z[k]);
+        }
+        for (long ch = ch0; ch < ch1; ++ch) {
+          double pq[K];
+          for (int c = 0; c < K; ++c) pq[c] = 0;
+          const long e = std::min(nb, (ch + 1) * kPcgChunk) * BS;
+          for (long row = ch * kPcgChunk * BS; row < e; ++row) {
+            double* qr = q + row * K;
+            if (it > 0 && T > 1) {
+              for (int c = 0; c < K; ++c) p[row * K + c] = fmadd(beta[c], p_old[row * K + c], z[row * K + c]);
+              row_times(row, qr, [&](long j, int c) { return fmadd(beta[c], p_old[j * K + c], z[j * K + c]); });
+            } else {
+              row_times(row, qr, [&](long j, int c) { return p[j * K + c]; });
+            }
+            for (int c = 0; c < K; ++c) pq[c] = fmadd(p[row * K + c], qr[c], pq[c]);
+          }
+          for (int c = 0; c < K; ++c) part_a[kSlots * ch + c] = pq[c];
+        }
+        barrier.wait(T);
+        // A column whose matrix is not positive along p (or that has converged exactly) stops moving.
+        double alpha[K];
+        bool any = false;
+        for (int c = 0; c < K; ++c) {
+          const double pq = sum(part_a, kSlots, c);
+          alpha[c] = pq > 0 ? rz[c] / pq : 0.0;
+          any = any || pq > 0;
+        }
+        if (!any) break;  // not positive definite along p: return the current iterate
+        // pass B: x, r, z = P r; partials r.r, r.z
+        for (long ch = ch0; ch < ch1; ++ch) {
+          double rr = 0, rzp[K];
+          for (int c = 0; c < K; ++c) rzp[c] = 0;
+          const long e = std::min(nb, (ch + 1) * kPcgChunk);
+          for (long blk = ch * kPcgChunk; blk < e; ++blk) {
+            for (int i = 0; i < BS; ++i)
+              for (int c = 0; c < K; ++c) {
+                const long k = (blk * BS + i) * K + c;
+                x[k] = fmadd(alpha[c], p[k], x[k]);
+                r[k] = fmadd(-alpha[c], q[k], r[k]);
+                rr = fmadd(r[k], r[k], rr);
+              }
+            precond_block(blk);
+            for (int i = 0; i < BS; ++i)
+              for (int c = 0; c < K; ++c) {
+                const long k = (blk * BS + i) * K + c;
+                rzp[c] = fmadd(r[k], z[k], rzp[c]);
+              }
+          }
+          part_b[kSlots * ch] = rr;
+          for (int c = 0; c < K; ++c) part_b[kSlots * ch + 1 + c] = rzp[c];
+        }
+        barrier.wait(T);
+        ++it;
+        rn = std::sqrt(sum(part_b, kSlots, 0));
+        if (rn <= tol * bnorm) break;
+        for (int c = 0; c < K; ++c) {
+          const double rz_new = sum(part_b, kSlots, 1 + c);
+          beta[c] = rz[c] > 0 ? rz_new / rz[c] : 0.0;
+          rz[c] = rz_new;
+        }
+        std::swap(p, p_old);
+      }
     }
-#pragma omp parallel for schedule(static) if (par)
-    for (long k = 0; k < n * K; ++k) p[k] = z[k] + beta[k % K] * p[k];
+    if (tid == 0) {
+      iterations = it;
+      final_rn = rn;
+      bnorm_out = bnorm;
+    }
   }
-  if (relres) *relres = rn / bnorm;
-  return it;
+  if (relres) *relres = bnorm_out == 0 ? 0 : final_rn / bnorm_out;
+  return iterations;
 }
 
 }  // namespace
@@ -217,13 +261,15 @@ int pcg_solve(const SpMatR& A, const double* pinv, const double* b, double* x, d
 int BlockPcg::solve(const SpMatR& A, const double* b, double* x, double tol, int max_iter, double* relres,
                     bool x_is_guess) {
   const long n = A.rows();
-  r_.resize(n * k_); z_.resize(n * k_); p_.resize(n * k_); q_.resize(n * k_);
+  r_.resize(n * k_); z_.resize(n * k_); p_.resize(2 * n * k_); q_.resize(n * k_);
   setup_preconditioner(A);
-  const long nc = (n / bs_ + 1023) / 1024;
-  if (static_cast<long>(partial_.size()) < 3 * kMaxColumns * nc) partial_.resize(3 * kMaxColumns * nc);
+  const long nc = (n / bs_ + kPcgChunk - 1) / kPcgChunk;
+  const long slots = (2 + kMaxColumns + 2 * kSlots) * nc;  // initial, pass-A and pass-B partials
+  if (static_cast<long>(partial_.size()) < slots) partial_.resize(slots);
   auto run = [&](auto bs, auto k) {
     return pcg_solve<decltype(bs)::value, decltype(k)::value>(A, pinv_.data(), b, x, tol, max_iter, relres, x_is_guess,
-                                                              r_.data(), z_.data(), p_.data(), q_.data(), partial_.data());
+                                                              r_.data(), z_.data(), p_.data(), p_.data() + n * k_, q_.data(),
+                                                              partial_.data());
   };
   using I1 = std::integral_constant<int, 1>;
   using I2 = std::integral_constant<int, 2>;

@@ -202,17 +202,30 @@ TEST(BlockPcg, StopsWithoutMovingOnNegativeCurvature) {
 
 TEST(BlockPcg, BitIdenticalForAnyThreadCount) {
   // Above the size at which the solve runs on a team (parallel_thresholds.hpp), the chunked sums
-  // fix the arithmetic: 1 and 2 threads give the same bits.
-  const SpMatR A = random_block_spd(3000, 3, 1e2, 1e2, 61);
-  const Eigen::VectorXd b = random_vector(A.rows(), 9);
-  Eigen::VectorXd x1(A.rows()), x2(A.rows());
+  // fix the arithmetic: 1, 2 and 3 threads give the same bits, for the block sizes and column
+  // counts capsflow uses (2×2 blocks, one column: rotations; Jacobi, three columns: the load)
+  // and a 3×3 case; from zero and from a guess.
+  struct Case { int nb, bs, k; };
   const int nt = omp_get_max_threads();
-  BlockPcg pcg(3);
-  omp_set_num_threads(1);
-  const int it1 = pcg.solve(A, b.data(), x1.data(), 1e-10, 5000);
-  omp_set_num_threads(std::max(2, nt));
-  const int it2 = pcg.solve(A, b.data(), x2.data(), 1e-10, 5000);
-  omp_set_num_threads(nt);
-  EXPECT_EQ(it1, it2);
-  EXPECT_EQ((x1 - x2).cwiseAbs().maxCoeff(), 0.0);  // the property under test: bit-equality
+  for (const Case cs : {Case{3000, 3, 1}, Case{2562, 2, 1}, Case{2562, 1, 3}}) {
+    const SpMatR A = random_block_spd(cs.nb, cs.bs, 1e2, 1e2, 61);
+    const Eigen::VectorXd b = random_vector(A.rows() * cs.k, 9);
+    for (const bool guess : {false, true}) {
+      std::vector<Eigen::VectorXd> xs;
+      std::vector<int> its;
+      for (const int threads : {1, 2, 3}) {
+        Eigen::VectorXd x = Eigen::VectorXd::Constant(A.rows() * cs.k, 0.25);
+        BlockPcg pcg(cs.bs, cs.k);
+        omp_set_num_threads(threads);
+        its.push_back(pcg.solve(A, b.data(), x.data(), 1e-10, 5000, nullptr, guess));
+        xs.push_back(x);
+      }
+      omp_set_num_threads(nt);
+      for (int t = 1; t < 3; ++t) {
+        EXPECT_EQ(its[0], its[t]) << "bs " << cs.bs << " columns " << cs.k;
+        // the property under test: bit-equality, so the tolerance is 0
+        EXPECT_EQ((xs[0] - xs[t]).cwiseAbs().maxCoeff(), 0.0) << "bs " << cs.bs << " columns " << cs.k;
+      }
+    }
+  }
 }
