@@ -35,15 +35,7 @@ void area_weighted_normals(const Points& x, const Topology& topo, Points& nrm) {
   const int n = topo.n_nodes;
   if (nrm.rows() != n) nrm.resize(n, 3);
 #pragma omp parallel for schedule(static) if (n > kParallelNodes)
-  for (int i = 0; i < n; ++i) {
-    Vec3 s = Vec3::Zero();
-    for (int p = topo.inc_ptr[i]; p < topo.inc_ptr[i + 1]; ++p) {
-      const auto& t = topo.tri[topo.inc_elem[p]];
-      const Vec3 a = x.row(t[0]);
-      s += (Vec3(x.row(t[1])) - a).cross(Vec3(x.row(t[2])) - a);
-    }
-    nrm.row(i) = s.normalized().transpose();
-  }
+  for (int i = 0; i < n; ++i) nrm.row(i) = area_weighted_normal(x, topo, i).transpose();
 }
 
 Points area_weighted_normals(const Points& x, const Triangles& tri) {

@@ -111,17 +111,63 @@ void GsmbWall::rotate(const Eigen::VectorXd& w) {
 
 void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, bool want_K,
                         bool want_fx) {
+  if (x.rows() != topo_.n_nodes) throw std::invalid_argument("GsmbWall: x has the wrong number of rows");
+  pass(x, Prologue::None, want_K, want_fx);
+  if (fx) *fx = fx_;
+  if (R_theta) *R_theta = Rth_;
+}
+
+double GsmbWall::pass(const Points& x, Prologue prologue, bool want_K, bool want_fx) {
   const int n = topo_.n_nodes, ne = topo_.n_elems;
-  if (x.rows() != n) throw std::invalid_argument("GsmbWall: x has the wrong number of rows");
   // One team for the whole pass, with one barrier: every element writes its nodal contributions to
   // its own record (any thread count, any order), then every node sums its elements' records in the
   // order of their colours — the order in which the colour-by-colour assembly added them, so the
-  // sums are those of a serial pass for any thread count.
+  // sums are those of a serial pass for any thread count. A node-wise prologue (the predictor, or
+  // the Newton step) runs in the same team before the elements.
   eout_.resize(ne);
+  if (prologue == Prologue::Predict && start_.size() != n) start_ = triads_;
   double* Kv = K_.valuePtr();
   par::TeamBarrier barrier;
-#pragma omp parallel if (ne > kParallelGsmbPass)
+  const bool team = ne > kParallelGsmbPass;
+  const int max_team = team ? omp_get_max_threads() : 1;
+  if (static_cast<int>(thread_max_.size()) < max_team) thread_max_.resize(max_team);
+  int used = 1;  // threads of the team
+#pragma omp parallel if (team)
   {
+    const int T = omp_get_num_threads(), tid = omp_get_thread_num();
+    if (tid == 0) used = T;
+    if (prologue == Prologue::Predict) {
+      // Each triad turned by the smallest rotation from its node's normal at the last solve to the
+      // current one; then the start of the solve is kept (a failed solve starts again from it).
+#pragma omp for schedule(static) nowait
+      for (int i = 0; i < n; ++i) {
+        const Vec3 nc = area_weighted_normal(x, topo_, i);
+        n_cur_.row(i) = nc.transpose();
+        Vec3 w;
+        if (minimal_rotation(Vec3(n_prev_.row(i)), nc, w)) triads_.rotate(i, w);
+        n_prev_.row(i) = n_cur_.row(i);
+        start_.d.row(i) = triads_.d.row(i);
+        start_.t1.row(i) = triads_.t1.row(i);
+        start_.t2.row(i) = triads_.t2.row(i);
+      }
+      barrier.wait(T);
+    } else if (prologue == Prologue::Step) {
+      // The Newton increment dw_, scaled down if a nodal rotation exceeds max_step.
+      double big = 0;
+#pragma omp for schedule(static) nowait
+      for (int i = 0; i < n; ++i) big = std::max(big, std::hypot(dw_[2 * i], dw_[2 * i + 1]));
+      thread_max_[tid] = big;
+      barrier.wait(T);
+      for (int t = 0; t < T; ++t) big = std::max(big, thread_max_[t]);
+      const double scale = big > opt_.max_step ? opt_.max_step / big : 1.0;
+#pragma omp for schedule(static) nowait
+      for (int i = 0; i < n; ++i) {
+        const double w1 = big > opt_.max_step ? dw_[2 * i] * scale : dw_[2 * i];
+        const double w2 = big > opt_.max_step ? dw_[2 * i + 1] * scale : dw_[2 * i + 1];
+        triads_.rotate(i, w1 * Vec3(triads_.t1.row(i)) + w2 * Vec3(triads_.t2.row(i)));
+      }
+      barrier.wait(T);
+    }
 #pragma omp for schedule(static) nowait
     for (int e = 0; e < ne; ++e) {
       const ElementRef& R = ref_[e];
@@ -149,9 +195,11 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
         for (int r = 0; r < 6; ++r)
           for (int c = 0; c < 6; ++c) out.K[r][c] = o.K[r][c];
     }
-    barrier.wait(omp_get_num_threads());
-    // per node: forces, director forces, tangent rows, residual and geometric term
-#pragma omp for schedule(static)
+    barrier.wait(T);
+    // per node: forces, director forces, tangent rows, residual and geometric term, and the
+    // largest |R_theta|/K_ii (the Newton criterion; a maximum: the same for any split)
+    double res = 0;
+#pragma omp for schedule(static) nowait
     for (int i = 0; i < n; ++i) {
       double acc[6] = {0, 0, 0, 0, 0, 0};
       const int p0 = topo_.inc_ptr[i], p1 = topo_.inc_ptr[i + 1];
@@ -198,61 +246,55 @@ void GsmbWall::evaluate(const Points& x, Points* fx, Eigen::VectorXd* R_theta, b
         kdiag_[2 * i] = Kv[dp];
         kdiag_[2 * i + 1] = Kv[dp + row_len2_[i] + 1];
       }
+      res = std::max(res, std::abs(Rth_[2 * i]) / kdiag_[2 * i]);
+      res = std::max(res, std::abs(Rth_[2 * i + 1]) / kdiag_[2 * i + 1]);
     }
+    thread_max_[tid] = res;
   }
-  if (fx) *fx = fx_;
-  if (R_theta) *R_theta = Rth_;
+  double res = 0;
+  for (int t = 0; t < used; ++t) res = std::max(res, thread_max_[t]);
+  return res;
 }
 
 WallStats GsmbWall::solve_rotations(const Points& x) {
   WallStats st;
-  if (opt_.predict) {
-    area_weighted_normals(x, topo_, n_cur_);
-    const int n = topo_.n_nodes;
-#pragma omp parallel for schedule(static) if (n > kParallelNodes)
-    for (int i = 0; i < n; ++i) {
-      Vec3 w;
-      if (minimal_rotation(Vec3(n_prev_.row(i)), Vec3(n_cur_.row(i)), w)) triads_.rotate(i, w);
-    }
-    n_prev_ = n_cur_;
-  }
-  start_ = triads_;
-  newton(x, kGeometricFloor, st);
+  // The predictor runs in the first element pass (pass(), Prologue::Predict), which also keeps
+  // the predicted triads in start_.
+  if (!opt_.predict) start_ = triads_;
+  newton(x, kGeometricFloor, st, opt_.predict ? Prologue::Predict : Prologue::None);
   if (!st.converged) {
     // Failure path only (converged solves never come here, so they are unchanged): start again from
     // the predicted triads with the safer floor throughout (docs/shell.md §2.4).
     triads_ = start_;
     st.converged = true;
-    newton(x, kSafeGeometricFloor, st);
+    newton(x, kSafeGeometricFloor, st, Prologue::None);
   }
   last_newton_ = st.newton_iterations;
   return st;
 }
 
-void GsmbWall::newton(const Points& x, double floor, WallStats& st) {
-  const int n2 = 2 * topo_.n_nodes;
+void GsmbWall::newton(const Points& x, double floor, WallStats& st, Prologue first) {
   // The membrane force does not depend on the rotations: when the previous call needed a Newton
   // correction (the usual RK stage), the first pass skips it and computes only R_theta and K; the
   // x-forces come from the pass at the converged directors. Results do not depend on this choice.
   const bool lazy_fx = last_newton_ > 0;
   double previous = std::numeric_limits<double>::infinity();
   geometric_floor_ = floor;
+  Prologue prologue = first;  // then Step: each Newton increment is applied by the next pass
   for (int it = 0;; ++it) {
     // tangent built at the first Newton step of each call and reused by the later steps of the
     // same call (they start within O(newton step^2) of the solution; the residual is exact)
     const bool want_fx = !(it == 0 && lazy_fx);
-    evaluate(x, nullptr, nullptr, it == 0, want_fx);
-    double res = 0;
-    for (int i = 0; i < n2; ++i) res = std::max(res, std::abs(Rth_[i]) / kdiag_[i]);
+    const double res = pass(x, prologue, it == 0, want_fx);
     if (it > 0 && res > opt_.newton_tol && res > kStaleTangent * previous) {
       // The frozen tangent no longer contracts: the iterate has moved far from where it was built,
       // as when it leaves a saddle (docs/shell.md §2.4). Rebuild it at this iterate; with a
       // tangent frozen at the saddle the escape ends in a 2-cycle at residual 0.2 (measured).
-      evaluate(x, nullptr, nullptr, true, want_fx);
+      pass(x, Prologue::None, true, want_fx);
     }
     previous = res;
     st.residual = res;
-    if (res <= opt_.newton_tol && !want_fx) evaluate(x, nullptr, nullptr, false, true);
+    if (res <= opt_.newton_tol && !want_fx) pass(x, Prologue::None, false, true);
     if (res <= opt_.newton_tol || it >= opt_.max_newton) {
       if (res > opt_.newton_tol) st.converged = false;
       if (trace_) trace_({it, res, geometric_floor_, 0, 0.0});
@@ -264,17 +306,13 @@ void GsmbWall::newton(const Points& x, double floor, WallStats& st) {
     if (rr > kStalledCg && geometric_floor_ > kSafeGeometricFloor) {
       // Negative curvature stopped CG: an indefinite tangent. Rebuild it with the safer floor.
       geometric_floor_ = kSafeGeometricFloor;
-      evaluate(x, nullptr, nullptr, true, want_fx);
+      pass(x, Prologue::None, true, want_fx);
       Rth_ = -Rth_;
       cg += pcg_.solve(K_, Rth_.data(), dw_.data(), opt_.cg_tol, opt_.max_cg, &rr);
     }
     st.cg_iterations += cg;
     if (trace_) trace_({it, res, geometric_floor_, cg, rr});
-    double big = 0;
-    for (int i = 0; i < topo_.n_nodes; ++i)
-      big = std::max(big, std::hypot(dw_[2 * i], dw_[2 * i + 1]));
-    if (big > opt_.max_step) dw_ *= opt_.max_step / big;
-    rotate(dw_);
+    prologue = Prologue::Step;  // the next pass applies dw_ (scaled to max_step) first
     ++st.newton_iterations;
   }
 }

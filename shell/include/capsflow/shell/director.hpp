@@ -59,6 +59,16 @@ struct NodalTriads {
 /// zero keeps the zero vector). Each node sums its own elements: parallel, bit-identical for any
 /// thread count, no allocation once n is sized.
 void area_weighted_normals(const Points& x, const Topology& topo, Points& n);
+/// Node i's row of area_weighted_normals (the same arithmetic).
+inline Vec3 area_weighted_normal(const Points& x, const Topology& topo, int i) {
+  Vec3 s = Vec3::Zero();
+  for (int p = topo.inc_ptr[i]; p < topo.inc_ptr[i + 1]; ++p) {
+    const auto& t = topo.tri[topo.inc_elem[p]];
+    const Vec3 a = x.row(t[0]);
+    s += (Vec3(x.row(t[1])) - a).cross(Vec3(x.row(t[2])) - a);
+  }
+  return s.normalized();
+}
 /// The same for a bare triangle list (builds the node–element incidence on each call: keep a
 /// Topology for repeated calls).
 Points area_weighted_normals(const Points& x, const Triangles& tri);

@@ -109,7 +109,13 @@ class GsmbWall : public Wall {
   std::vector<ElementRef> ref_;
   // Newton iterations on the rotations from the current triads, the geometric tangent term floored at
   // −floor (falling back to the safer floor if CG stalls); adds to st, clears st.converged on failure.
-  void newton(const Points& x, double floor, WallStats& st);
+  // What an element pass does first, node by node, in the same team: nothing, the predictor
+  // (solve_rotations), or the Newton step dw_ (scaled to max_step).
+  enum class Prologue { None, Predict, Step };
+  // `first` is the prologue of the first pass (the predictor).
+  void newton(const Points& x, double floor, WallStats& st, Prologue first);
+  // One element pass after the prologue (see evaluate()); returns max_i |R_theta,i| / K_ii.
+  double pass(const Points& x, Prologue prologue, bool want_K, bool want_fx);
   Points D_, n_prev_, n_cur_;  // reference directors; facet normals of the last and current solve
   NodalTriads triads_;
   NodalTriads start_;  // predicted triads at the start of a solve (retry from them)
@@ -130,6 +136,7 @@ class GsmbWall : public Wall {
   int last_newton_ = 0;  // Newton corrections of the previous call (work-saving heuristic only)
   double geometric_floor_ = 0;  // floor of the geometric tangent term, set at the start of each solve (gsmb_wall.cpp)
   mutable std::vector<double> partial_;
+  std::vector<double> thread_max_;  // one maximum per thread of a pass
   std::function<void(const NewtonStep&)> trace_;
 };
 
