@@ -100,8 +100,6 @@ int main(int argc, char** argv) {
 
   LoadRecovery load(m.T, n);
   Points R = x, q;
-  report("lumped_nodes (solve_lumped: upper bound)", kParallelLumpedNodes,
-         serial_seconds(reps, [&] { load.solve_lumped(x, R, q); }) / n, team, threads, n);
   report("area_elements (mass assembly: upper bound)", kParallelAreaElements,
          serial_seconds(reps, [&] { load.assemble(x); }) / ne, team, threads, ne);
 

@@ -35,6 +35,8 @@ class LoadRecovery {
   void set_warm_start(bool on) { warm_start_ = on; }
 
  private:
+  // M(x) and the lumped masses; with R, also the lumped guess q (sized) in the same team.
+  void assemble(const Points& x, const Points* R, Points* q);
   Topology topo_;
   SpMatR M_;
   std::vector<double> area_, lumped_;
