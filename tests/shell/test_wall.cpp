@@ -139,7 +139,9 @@ TEST(Wall, GlobalInvariantsOfTheNodalForces) {
 }
 
 TEST(Wall, DeterministicAcrossThreadCountsAndRestartable) {
-  Mesh m = icosphere(3);
+  // 5 120 elements: above every team threshold of parallel_thresholds.hpp (element pass, both
+  // PCGs, the mass assembly), so the 2-thread runs use every parallel path.
+  Mesh m = icosphere(4);
   const Points x = deform(m.X, 1.0, 6);
   const int nt = omp_get_max_threads();
   Points R1, R2, R3;

@@ -18,9 +18,10 @@ inline constexpr int kParallelNodes = 4096;
 /// Elements of the mass-matrix assembly, one team for the element areas, the nodal rows and the
 /// lumped initial guess of the load recovery (which had its own team above 2048 nodes).
 inline constexpr int kParallelAreaElements = 4096;
-/// Elements of a GSMB element pass, which runs as one team with one barrier (elements, then the
-/// node-wise sums): ~450 ns per element against ~50 µs for the team and ~25 µs for the barrier
-/// gives a break-even near 330 elements; this is twice that. (Re-measure: docs/shell.md §2.7.)
+/// Elements of a GSMB element pass, which runs as one team (node-wise prologue, elements, node-wise
+/// sums) with one to three TeamBarrier waits: ~450 ns per element against ~50 µs for the team and a
+/// barrier assumed at most half of that gives a break-even near 330 elements; this is about twice
+/// that. An estimate until re-measured on a quiet machine (docs/shell.md §2.7).
 inline constexpr int kParallelGsmbPass = 768;
 /// Elements of one colour in the membrane-only force pass (was 512: a team per colour cost more
 /// than it saved below ~5 000 elements per colour, i.e. on every mesh up to ~40 000 elements).
