@@ -44,8 +44,7 @@ std::optional<StopReason> Simulation::Impl::step() {
   ++st.step;
   ++steps_this_segment;
   const SurfaceMesh now{st.x, ref.triangles};
-  const TaylorDeformation d = taylor_deformation(inertia_ellipsoid(now));
-  steady->add(st.t, surface_area(now), {d.D12, d.D13, d.D23});
+  steady->add(st.t, surface_area(now), inertia_ellipsoid(now));
   const std::optional<StopReason> health_stop = observe_health();
   write_due_outputs();
   report_progress(false);

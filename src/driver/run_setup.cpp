@@ -38,8 +38,7 @@ void Simulation::Impl::set_up() {
     st.x = ref.vertices;
     st.volume0 = enclosed_volume(ref);
     st.area0 = surface_area(ref);
-    const TaylorDeformation d = taylor_deformation(inertia_ellipsoid(ref));
-    steady->add(0.0, st.area0, {d.D12, d.D13, d.D23});
+    steady->add(0.0, st.area0, inertia_ellipsoid(ref));
   }
   const nlohmann::json meta = metadata();
   out = opt.restart.empty() || restart.new_folder ? std::make_unique<io::ResultsWriter>(folder, ref, meta)
