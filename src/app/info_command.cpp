@@ -112,8 +112,9 @@ int info_command(const InfoOptions& opt) {
       fmt::print("  {:<6g}        {:>3} stages, {:.0f} evaluations to t_end = {:g}{}\n", num(at["dt"]), at["stages"].get<int>(),
                  num(at["evaluations"]), t_end, wall(num(at["evaluations"])));
   }
-  fmt::print("memory          ~{:.0f} MB{}\n", num(r["memory_mb"]),
-             r["memory_fmm_operators"].get<bool>() ? " + FMM operators (~0.5 GB at p = 9)" : "");
+  fmt::print("memory          ~{:.0f} MB{}{}\n", num(r["memory_mb"]),
+             r["memory_fmm_operators"].get<bool>() ? " + FMM operators (~0.5 GB at p = 9)" : "",
+             r["memory_double_layer_fmm_operators"].get<bool>() ? " + stresslet FMM operators (~0.8 GB)" : "");
   return 0;
 }
 
