@@ -13,27 +13,47 @@ namespace {
 constexpr double kMixedPrecisionTolerance = 1e-5;
 }  // namespace
 
+const SingleLayerCrossoverRow& single_layer_crossover(double tolerance) {
+  constexpr int n = sizeof(kSingleLayerCrossover) / sizeof(kSingleLayerCrossover[0]);
+  for (int i = 0; i < n - 1; ++i)
+    if (tolerance >= kSingleLayerCrossover[i].tolerance) return kSingleLayerCrossover[i];
+  return kSingleLayerCrossover[n - 1];
+}
+
 bool uses_mixed_precision(FarFieldBackend b, double tolerance) {
   // Single-precision pairs (max relative error ~5e-7, fmm/direct_sum_mixed.hpp) whenever the
   // tolerance leaves a 20x margin; "direct" at tighter tolerances stays in double.
   return fmm::kMixedPrecisionDirectSum && b == FarFieldBackend::Direct && tolerance >= kMixedPrecisionTolerance;
 }
 
-FarFieldBackend choose_backend(BackendRequest requested, Eigen::Index n_sources, Eigen::Index n_targets, double tolerance,
-                               std::string* reason) {
+FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, Eigen::Index n_sources, Eigen::Index n_targets,
+                               double tolerance, std::string* reason) {
   const std::size_t n_src = static_cast<std::size_t>(n_sources), n_trg = static_cast<std::size_t>(n_targets);
   std::string why;
   FarFieldBackend b;
   if (requested == BackendRequest::Auto) {
-    const bool direct = fmm::prefer_direct(n_src, n_trg, tolerance);
+    std::size_t c;
+    std::string whose;
+    if (kernel == FarFieldKernel::SingleLayer) {
+      const SingleLayerCrossoverRow& row = single_layer_crossover(tolerance);
+      c = row.crossover;
+      whose = row.measured ? "the single layer's measured FMM/direct crossover"
+                           : "the single layer's FMM/direct crossover (extrapolated: direct was faster at every measured size)";
+    } else {
+      c = fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance);
+      whose = "the stresslet FMM's measured FMM/direct crossover";
+    }
+    const bool direct = static_cast<double>(n_src) * static_cast<double>(n_trg) < static_cast<double>(c) * static_cast<double>(c);
     b = direct ? FarFieldBackend::Direct : FarFieldBackend::Fmm;
-    why = fmt::format("auto: {} sources × {} targets is {} the measured FMM/direct crossover at tolerance {:g} ({} points)",
-                      n_src, n_trg, direct ? "below" : "above", tolerance, fmm::direct_crossover(tolerance));
+    why = fmt::format("auto: {} sources × {} targets is {} {} at tolerance {:g} ({} points)", n_src, n_trg,
+                      direct ? "below" : "above", whose, tolerance, c);
   } else {
     b = requested == BackendRequest::Fmm ? FarFieldBackend::Fmm : FarFieldBackend::Direct;
     why = fmt::format("forced by the scene (fluid.backend = \"{}\")", to_string(requested));
   }
-  if (b == FarFieldBackend::Direct && uses_mixed_precision(b, tolerance))
+  // The double layer decides its precision per application (double_layer.cpp: set-up in double,
+  // inexact GMRES steps may take single-precision pairs); the reason names the back end only.
+  if (kernel == FarFieldKernel::SingleLayer && b == FarFieldBackend::Direct && uses_mixed_precision(b, tolerance))
     why += fmt::format("; pairs in single precision, sums in double (tolerance >= {:g})", kMixedPrecisionTolerance);
   if (reason) *reason = why;
   return b;

@@ -64,7 +64,7 @@ std::optional<StopReason> Simulation::Impl::attempt_step(StepAttempt& a) {
   try {
     dt = stepper->next_step(*dyn, st.x, {st.t, time_to_stop(), st.step});
     if (step_makes_progress(st.t, dt)) a = stepper->attempt(*dyn, st.x, dt);
-    far_check->update(dyn->single_layer(), st.t);
+    update_far_checks();
   } catch (const SolverFailure& e) {
     const StopReason r(StopKind::SolverFailure, fmt::format("{} at t = {:g}", e.what(), st.t));
     spdlog::error("{}; keeping the last healthy state", r.to_string());

@@ -47,6 +47,11 @@ const Points& Simulation::Impl::state_velocity() {
   return v_out;
 }
 
+void Simulation::Impl::update_far_checks() {
+  far_check->update(dyn->single_layer(), st.t);
+  if (const ViscosityRatioSolver* vr = dyn->viscosity_ratio_solver()) dl_far_check->update(vr->double_layer(), st.t);
+}
+
 void Simulation::Impl::write_output() {
   const SurfaceMesh cur{st.x, ref.triangles};
   last_shape = shape_diagnostics(cur);
@@ -54,7 +59,7 @@ void Simulation::Impl::write_output() {
   last_plane_shape = in_plane_shape(cur, plane);
   last_tank_treading = tank_treading->update(cur, st.t);
   state_velocity();  // may throw SolverFailure: the shapes above are the state's all the same
-  far_check->update(dyn->single_layer(), st.t);
+  update_far_checks();
   const shell::WallEnergies en = dyn->wall().energies(st.x);
   io::NamedFields fields;
   if (scene.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out);
@@ -75,7 +80,8 @@ void Simulation::Impl::write_output() {
                     {"E_membrane", en.membrane}, {"E_bending", en.bending}, {"E_shear", en.shear},
                     {"steady_measure", steady->measure()}, {"wall_seconds", wall_seconds()}};
   for (const auto& [name, value] : health->columns()) row.emplace_back(name, value);
-  far_check->append_columns(row);  // fluid.verify_every > 0 only
+  far_check->append_columns(row);     // fluid.verify_every > 0 only
+  dl_far_check->append_columns(row);  // ... and λ ≠ 1
   // In the flow plane (docs/conventions.md §5.6): θ in degrees, the rotation rate per unit γ̇t.
   row.insert(row.end(), {{"D_flow", last_plane_shape.D}, {"theta", last_plane_shape.theta * 180 / M_PI},
                          {"tank_treading", last_tank_treading}});
@@ -112,7 +118,9 @@ void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
   nlohmann::json extra = s.extra();
   extra["health"] = health->state();
   stepper->save(extra, ck.integrator_state);
-  if (far_check->enabled()) extra["far_field_check"] = far_check->state(dyn->single_layer());
+  if (far_check->enabled()) extra[far_check->name()] = far_check->state(dyn->single_layer());
+  if (dl_far_check->enabled())
+    extra[dl_far_check->name()] = dl_far_check->state(dyn->viscosity_ratio_solver()->double_layer());
   ck.extra = extra.dump();
   ck.run_id = run_id;
   io::write_checkpoint(path, ck);

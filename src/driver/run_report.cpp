@@ -103,7 +103,9 @@ nlohmann::json Simulation::Impl::summary() const {
                                   {"double_layer_backend", to_string(dyn->viscosity_ratio_solver()->double_layer().backend())},
                                   {"double_layer_backend_reason", dyn->viscosity_ratio_solver()->double_layer().backend_reason()}};
   }
-  if (far_check->enabled()) summary["far_field_check"] = far_check->summary(dyn->single_layer());
+  if (far_check->enabled()) summary[far_check->name()] = far_check->summary(dyn->single_layer());
+  if (dl_far_check->enabled())
+    summary[dl_far_check->name()] = dl_far_check->summary(dyn->viscosity_ratio_solver()->double_layer());
   summary["peak_rss_mb"] = peak_rss_mb();
   summary["run_id"] = run_id;
   summary["mesh_hash"] = mesh_hash;

@@ -30,6 +30,9 @@ void Simulation::Impl::set_up() {
   instability = InstabilityWatch(scene.fluid.volume_correction ? InstabilityWatch::Volume::Corrected
                                                                : InstabilityWatch::Volume::Uncorrected);
   far_check = std::make_unique<FarFieldWatch>(scene.fluid.verify_every, scene.fluid.tolerance);
+  dl_far_check = std::make_unique<FarFieldWatch>(dyn->viscosity_ratio_solver() ? scene.fluid.verify_every : 0,
+                                                 scene.fluid.tolerance, "double_layer_far_field_check",
+                                                 "double-layer far-field check", "the largest directly summed value");
   plane = flow_plane(scene.flow.gradient);
   tank_treading = std::make_unique<TankTreadingMeter>(plane);
   if (!opt.restart.empty()) {
@@ -142,7 +145,8 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
   steady->set_history(ck.history);
   const auto e = nlohmann::json::parse(ck.extra);
   st.set_extra(e);
-  if (e.contains("far_field_check")) far_check->set_state(e.at("far_field_check"));
+  if (e.contains(far_check->name())) far_check->set_state(e.at(far_check->name()));
+  if (e.contains(dl_far_check->name())) dl_far_check->set_state(e.at(dl_far_check->name()));
   // A changed output.every or checkpoint_every counts its index from the checkpoint time.
   const Scene stored = parse_scene(ck.scene_toml, "checkpoint");
   st.next_output = restart_index(e.at("next_output").get<std::int64_t>(), stored.output.every, scene.output.every, st.t);

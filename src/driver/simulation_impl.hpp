@@ -97,7 +97,9 @@ struct Simulation::Impl {
   std::unique_ptr<SteadyStateDetector> steady;
   std::unique_ptr<HealthMonitor> health;
   InstabilityWatch instability;            // geometric growth of the volume drift: a blow-up at its start
-  std::unique_ptr<FarFieldWatch> far_check;  // fluid.verify_every
+  std::unique_ptr<FarFieldWatch> far_check;  // fluid.verify_every: the single layer's far field
+  std::unique_ptr<FarFieldWatch> dl_far_check;  // ... and the double layer's (λ ≠ 1; disabled otherwise)
+  void update_far_checks();                   // both watches, at the state's time st.t
   RhsCounters effort_mark;                 // counters at the last health observation
 
   RunState st;

@@ -49,8 +49,13 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
 
   nlohmann::json run;
   std::string why;
-  // The single layer's far-field sources are the edge midpoints (docs/boundary-integral.md §4.2.1).
-  const FarFieldBackend b = choose_backend(scene.fluid.backend, mesh_edges(mesh).rows(), mesh.num_nodes(), scene.fluid.tolerance, &why);
+  // The single layer's far-field sources: the edge midpoints on flat facets, 3 Gauss points per
+  // curved element (docs/boundary-integral.md §4.2.1).
+  SingleLayerOptions sl_options;
+  sl_options.geometry = scene.fluid.geometry;
+  const Eigen::Index sources = far_field_source_count(sl_options, mesh.num_elements(), mesh_edges(mesh).rows());
+  const FarFieldBackend b =
+      choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer, sources, mesh.num_nodes(), scene.fluid.tolerance, &why);
   run["backend"] = to_string(b);
   run["backend_reason"] = why;
   run["fmm_order_warning"] = unused_fmm_order_note(scene, b);
@@ -60,9 +65,10 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     dl_options.geometry = scene.fluid.geometry;
     dl_options.backend = BackendRequest::Direct;  // the near field's size only (no FMM set-up here)
     const DoubleLayer dl(mesh.triangles, mesh.num_nodes(), dl_options);
-    std::string dl_why;  // the run's choice: by fluid.backend, as the single layer's
+    std::string dl_why;  // the run's choice: by fluid.backend, or the stresslet FMM's crossover
     const FarFieldBackend dl_backend =
-        choose_backend(scene.fluid.backend, dl.far_field_sources(), mesh.num_nodes(), scene.fluid.tolerance, &dl_why);
+        choose_backend(scene.fluid.backend, FarFieldKernel::DoubleLayer, dl.far_field_sources(), mesh.num_nodes(),
+                       scene.fluid.tolerance, &dl_why);
     const double lambda = scene.fluid.viscosity_ratio;
     run["viscosity_ratio"] = {{"lambda", lambda}, {"kappa", (1 - lambda) / (1 + lambda)},
                               {"near_field_mb", dl.near_field_megabytes()}, {"max_gmres", scene.fluid.max_gmres},

@@ -40,6 +40,11 @@ CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& referenc
 PhaseTimes CapsuleDynamics::times() const {
   PhaseTimes t = times_;
   t += bie_.times();
+  if (viscosity_) {  // the double layer's direct checks (fluid.verify_every) move from the solve to bie_verify
+    const PhaseTimes& d = viscosity_->double_layer().times();
+    t[Phase::BieSecondKind] -= d[Phase::BieVerify], t.cpu(Phase::BieSecondKind) -= d.cpu(Phase::BieVerify);
+    t[Phase::BieVerify] += d[Phase::BieVerify], t.cpu(Phase::BieVerify) += d.cpu(Phase::BieVerify);
+  }
   return t;
 }
 

@@ -258,15 +258,16 @@ const Section<FluidSpec>& fluid_keys() {
        integer("verify_every", &FluidSpec::verify_every, bie.verify_every,
                closed(0, 1000000).because("right-hand-side evaluations between direct checks; 0 = off"),
                "direct check of the far field: every N right-hand-side evaluations (the first one included) the far "
-               "field is also summed directly, in full double precision, on the same sources and nodes; 0 = off (then "
-               "nothing is computed and no column or key is added)"),
+               "field is also summed directly, in full double precision, on the same sources and nodes (with "
+               "`viscosity_ratio` ≠ 1 the double layer's too); 0 = off (then nothing is computed and no column or key is "
+               "added)"),
        // λ = 1e-6 and 1e6 already behave as the bubble and rigid limits (docs/boundary-integral.md §4.8.2).
        number("viscosity_ratio", &FluidSpec::viscosity_ratio, 1.0,
               closed(1e-6, 1e6).because("λ = inner/outer viscosity; beyond, the bubble and rigid limits"),
               "λ = viscosity inside / outside; λ = 1: the single layer alone (the code path and numbers of a scene "
               "without the key); otherwise the second-kind equation (1 + λ)/2 u + (1 − λ) D[u] = v∞ − S[q] solved by "
               "deflated GMRES at every evaluation (`docs/boundary-integral.md` §4.8); the double layer's far field "
-              "follows `backend` as the single layer's (FMM or direct sum)"),
+              "follows `backend` (FMM or direct sum; `\"auto\"` by the stresslet FMM's own measured crossover)"),
        // 10× the coldest solve measured (≤ 10 iterations on spheres and a/b = 2 spheroids, λ = 0.01–100).
        integer("max_gmres", &FluidSpec::max_gmres, 100, closed(1, 10000),
                "λ ≠ 1: iteration cap of the second-kind GMRES solve (1–3 are used per evaluation, ≤ 10 from a cold "

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "capsflow/core/bie/backend_choice.hpp"
+#include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/mesh/generation.hpp"
 
 namespace capsflow::study {
@@ -25,8 +26,11 @@ JobSize size_job(const Variant& v, const CostModel& cost, int threads, long prev
   s.minutes = std::max(kMinMinutes, static_cast<long>(std::ceil(kTimeMargin * s.predicted_seconds / 60.0 - 1e-9)));
   s.minutes = std::max(s.minutes, 2 * previous_minutes);
   const MeshCounts counts = expected_counts(v.scene.mesh.base, v.level);
-  const bool fmm = choose_backend(v.scene.fluid.backend, counts.elements, counts.nodes, v.scene.fluid.tolerance, nullptr) ==
-                   FarFieldBackend::Fmm;
+  SingleLayerOptions bie;
+  bie.geometry = v.scene.fluid.geometry;
+  const bool fmm = choose_backend(v.scene.fluid.backend, FarFieldKernel::SingleLayer,
+                                  far_field_source_count(bie, counts.elements, counts.edges), counts.nodes,
+                                  v.scene.fluid.tolerance, nullptr) == FarFieldBackend::Fmm;
   const double peak_mb = 2.4e-3 * n + 15 + (fmm ? 500 : 0);
   s.memory_mb = static_cast<long>(std::ceil((2 * peak_mb + 200) / 100.0)) * 100;
   return s;

@@ -1,6 +1,7 @@
 // fluid.verify_every (docs/scene-and-output.md §2.6): the far field re-summed directly every N
-// evaluations of a run, reported in timeseries.csv and summary.json. The check must pass at the
-// order the tolerance calls for and fail — with a warning — when the FMM order is forced too low.
+// evaluations of a run, reported in timeseries.csv and summary.json, for the single layer and (with
+// fluid.viscosity_ratio ≠ 1) the double layer. The check must pass at the order the tolerance
+// calls for and fail — with a warning — when the FMM order is forced too low.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -116,6 +117,67 @@ TEST(VerifyEvery, ChecksEveryNthEvaluationAndCostsNothingWhenOff) {
   EXPECT_EQ(o["timing"]["phases"]["bie_verify"].get<double>(), 0.0);  // not a single direct sum
   const auto rows = csv_of(d.path / "off");
   EXPECT_EQ(std::find(rows[0].begin(), rows[0].end(), "far_field_check_max"), rows[0].end());
+  // λ = 1 has no double layer: no second check, column or key, even with verify_every on.
+  const nlohmann::json s3 = summary_of(d.path / "e3");
+  EXPECT_FALSE(s3.contains("double_layer_far_field_check"));
+  EXPECT_EQ(csv_of(d.path / "e3")[0].size(), rows[0].size() + 2);  // the single layer's two columns only
+}
+
+// fluid.viscosity_ratio ≠ 1: the double layer's far field (its FMM of the unit constants D̃[1], the
+// same set-up and order as every GMRES application on that surface) is checked too, with its own
+// columns, summary key and warning.
+// Level 4 (7680 sources): at level 3 the stresslet's leaves of 800 points (fmm/calibration.hpp)
+// leave almost every pair to the near field, and even order 4 agrees with direct to ~3e-9.
+TEST(VerifyEvery, TheDoubleLayersFarFieldIsCheckedWhenTheViscosityRatioIsNotOne) {
+  TempDir d;
+  const std::string run = "run --set mesh.level=4 --set fluid.backend=fmm --set fluid.tolerance=1e-5 --set time.t_end=0.005 "
+                          "--set output.every=0.005 --threads 2 --set fluid.viscosity_ratio=5 --set fluid.verify_every=1";
+  const Result good = capsflow(run + " -o " + (d.path / "good").string(), d.path);
+  ASSERT_EQ(good.code, 0) << good.out;
+  const nlohmann::json g = summary_of(d.path / "good");
+  ASSERT_TRUE(g.contains("double_layer_far_field_check")) << g.dump();
+  const nlohmann::json& gc = g["double_layer_far_field_check"];
+  EXPECT_EQ(gc["backend"], "fmm");
+  // The stresslet FMM at the order for 0.25 × 1e-5 (fmm/calibration.hpp, the stresslet's table).
+  EXPECT_GE(gc["fmm_order"].get<int>(), 8);
+  // One check per right-hand-side evaluation: each evaluation sets the double layer's surface once.
+  EXPECT_EQ(gc["checks"].get<long>(), g["rhs_evaluations"].get<long>());
+  // The promise of fluid.tolerance (max node difference relative to the largest value; measured
+  // 6e-7 at p = 9 on this run to t = 0.02) ...
+  EXPECT_LT(gc["worst_max_relative"].get<double>(), 1e-5);
+  EXPECT_EQ(gc["above_tolerance"], 0);
+  // ... and not trivially: the FMM approximates something (a sum compared with itself gives ~1e-16).
+  EXPECT_GT(gc["worst_max_relative"].get<double>(), 1e-12);
+  EXPECT_EQ(good.out.find("far-field check at t"), std::string::npos) << good.out;  // no warning, either layer
+  EXPECT_TRUE(g.contains("far_field_check"));  // the single layer's, as at λ = 1
+
+  // Order 4 on both layers against tolerance 1e-5: the double layer's check must fail at every
+  // evaluation (p = 4 is calibrated for 6e-3 relative L2, the stresslet's table; measured 2.7e-3
+  // max, 1.0e-3 RMS on this run to t = 0.02) and warn once.
+  const Result bad = capsflow(run + " --set fluid.fmm_order=4 -o " + (d.path / "bad").string(), d.path);
+  ASSERT_EQ(bad.code, 0) << bad.out;  // a warning, not a stop
+  const nlohmann::json b = summary_of(d.path / "bad");
+  const nlohmann::json& bc = b["double_layer_far_field_check"];
+  EXPECT_EQ(bc["fmm_order"], 4);
+  EXPECT_GT(bc["worst_max_relative"].get<double>(), 1e-5);
+  EXPECT_EQ(bc["above_tolerance"].get<long>(), bc["checks"].get<long>());
+  EXPECT_EQ(bc["checks"].get<long>(), b["rhs_evaluations"].get<long>());
+  const std::string w = "double-layer far-field check at t = ";
+  const auto first = bad.out.find(w);
+  ASSERT_NE(first, std::string::npos) << bad.out;
+  EXPECT_EQ(bad.out.find(w, first + 1), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("(FMM order 4)", first), std::string::npos) << bad.out;
+
+  // timeseries.csv: both layers' latest checks at every output row (t = 0, 0.005), the double
+  // layer's columns right after the single layer's.
+  const auto rows = csv_of(d.path / "bad");
+  ASSERT_EQ(rows.size(), 3u);
+  const auto& h = rows[0];
+  const auto col = std::find(h.begin(), h.end(), "double_layer_far_field_check_max") - h.begin();
+  ASSERT_LT(col, static_cast<long>(h.size()));
+  EXPECT_EQ(h[static_cast<std::size_t>(col) - 1], "far_field_check_rms");
+  EXPECT_EQ(h[static_cast<std::size_t>(col) + 1], "double_layer_far_field_check_rms");
+  for (std::size_t r = 1; r < rows.size(); ++r) EXPECT_GT(std::stod(rows[r][static_cast<std::size_t>(col)]), 1e-5) << r;
 }
 
 TEST(VerifyEvery, TheWorstAndTheCountsSpanARestart) {

@@ -58,21 +58,30 @@ inline constexpr CalibrationRow kCalibration[] = {
 //   surface: 2.8e-3  1.1e-3  7.7e-5  5.0e-6  1.6e-6  1.5e-7  2.9e-8  7.4e-9  1.8e-9  8.0e-10  1.9e-10
 // A row's tolerance is about twice the worst of both (1.8x for p = 5, as for the Stokeslet's
 // p = 4): the surface density, whose sum cancels over the closed surface, is the harder case
-// up to p = 12. leaf_size and crossover are NOT measured for the stresslet: they are the
-// Stokeslet's at the same order (p = 5 interpolated), until perf/fmm/stresslet_bench.sh (§4, §5)
-// is run on a quiet machine.
+// up to p = 12.
+// leaf_size: measured for the stresslet (perf/fmm/stresslet_bench.sh §4, quiet machine,
+// results/stresslet/leaf.jsonl; sphere, leaves 200–800): 800 was fastest at p = 6, 9 and 12 with
+// N = 1e5 (by 9 %, 10 % and 32 % over 600), 600 at p = 9 with N = 1e6 (800 4.6 % slower); 800 is
+// the leaf whose worst loss is smallest. Other orders are not measured and take 800 too.
+// crossover: measured at p = 6, 9, 12 (§5, results/stresslet/crossover.jsonl; sphere, sources =
+// targets, set-up + one evaluation against direct_sum<Stresslet>, log-log between the sizes
+// 4000–64000, rounded up): 7 300, 15 000, 40 000 — later than the Stokeslet's (6 000, 11 000,
+// 18 000) because the stresslet's direct sum is 1.6x faster per pair (3.9 against 2.4 G pairs/s).
+// Measured with the leaves of the time (300 at p = 6, 600 at p = 9 and 12). p = 7, 8, 10, 11 are
+// INTERPOLATED geometrically between the measured orders; p = 4, 5 EXTRAPOLATED (the Stokeslet's
+// at the same order × 7300/6000), p = 13, 14 EXTRAPOLATED (+20 % per order, the Stokeslet's rule).
 inline constexpr CalibrationRow kStressletCalibration[] = {
-    {6e-3, 4, 200, 4000},
-    {2e-3, 5, 250, 5000},
-    {2e-4, 6, 300, 6000},
-    {1e-5, 7, 400, 7000},
-    {4e-6, 8, 500, 9000},
-    {3e-7, 9, 600, 11000},
-    {6e-8, 10, 600, 13000},
-    {1.5e-8, 11, 600, 15000},
-    {4e-9, 12, 600, 18000},
-    {2e-9, 13, 600, 21000},
-    {0.0, 14, 600, 25000},
+    {6e-3, 4, 800, 4900},
+    {2e-3, 5, 800, 6100},
+    {2e-4, 6, 800, 7300},
+    {1e-5, 7, 800, 9300},
+    {4e-6, 8, 800, 11800},
+    {3e-7, 9, 800, 15000},
+    {6e-8, 10, 800, 20800},
+    {1.5e-8, 11, 800, 28900},
+    {4e-9, 12, 800, 40000},
+    {2e-9, 13, 800, 48000},
+    {0.0, 14, 800, 58000},
 };
 
 /// A kernel's table (rows from loose to tight) and the smallest relative L2 error its FMM reaches

@@ -1,7 +1,9 @@
 #pragma once
-// The boundary integral's choices: which far-field back end it uses and why (the scene's choice,
-// or for "auto" the measured FMM/direct crossover of capsflow::fmm, fmm/calibration.hpp), and
-// which surface it integrates over.
+// The boundary integral's choices: which far-field back end each operator uses and why (the
+// scene's choice, or for "auto" a measured FMM/direct crossover: the single layer's own table
+// below, the double layer's the stresslet FMM's, fmm/calibration.hpp), and which surface it
+// integrates over.
+#include <cstddef>
 #include <string>
 
 #include <Eigen/Core>
@@ -24,13 +26,49 @@ constexpr const auto& name_table(BackendRequest) { return kBackendRequestNames; 
 constexpr const auto& name_table(FarFieldBackend) { return kFarFieldBackendNames; }
 constexpr const auto& name_table(SurfaceGeometry) { return kSurfaceGeometryNames; }
 
+// Which operator's far field is summed: the single layer's Stokeslets (single_layer.hpp) or the
+// double layer's stresslets (double_layer.hpp).
+enum class FarFieldKernel { SingleLayer, DoubleLayer };
+
+// Both operators ask the FMM for this fraction of fluid.tolerance: its calibration is a relative
+// L2 error over the targets, capsflow promises the tolerance relative to max |v| at every node.
+inline constexpr double kFmmToleranceMargin = 0.25;
+
+// The single layer's FMM/direct crossover, measured with its own far field: edge-midpoint
+// sources (3 per node) summed directly by eight-lane Stokeslet blocks (single-precision pairs
+// from 1e-5, double below) against the FMM's set-up and one evaluation at the order the tolerance
+// calls for (perf/bie/crossover.sh on a quiet machine, perf/RESULTS.md §3.1, data
+// perf/bie/crossover.jsonl). Rows from loose to tight; a row applies to fluid.tolerance >= its
+// tolerance. "auto" sums directly while n_src·n_trg < crossover².
+struct SingleLayerCrossoverRow {
+  double tolerance;
+  std::size_t crossover;  // sqrt(n_src·n_trg)
+  bool measured;          // false: direct was faster at every measured size; the crossover is extrapolated
+};
+// 1e-3–1e-5: where the FMM's time (log-log between the measured sizes) meets direct's
+// (perf/bie/crossover.py: 16 324, 23 200, 28 146). From 1e-6 on direct was faster at every
+// measured size, up to sqrt(n_src·n_trg) = 28 400 (octahedron level 6): the crossover is above
+// that, and the rows are EXTRAPOLATED, not measured — the FMM's time continued log-log from the two
+// largest sizes (slope 0.29–0.44 in n_src·n_trg) meets direct's at ~31 000 (1e-6), ~30 600 (1e-7;
+// taken as 1e-6's, a higher order cannot be cheaper) and ~50 900 (1e-8 and tighter, rounded down).
+// The direct sum's single-precision pairs need AVX-512 (fmm::kMixedPrecisionDirectSum); without
+// them 1e-3–1e-5 sum in double (~1.6× the time per pair) and the true crossover is lower.
+inline constexpr SingleLayerCrossoverRow kSingleLayerCrossover[] = {
+    {1e-3, 16300, true}, {1e-4, 23200, true}, {1e-5, 28100, true},
+    {1e-6, 31000, false}, {1e-7, 31000, false}, {0.0, 50000, false},
+};
+const SingleLayerCrossoverRow& single_layer_crossover(double tolerance);
+
 // True when the direct far field sums single-precision pairs (tolerance >= 1e-5, AVX-512 builds).
 bool uses_mixed_precision(FarFieldBackend b, double tolerance);
 
-// The back end for n_sources far-field sources (SingleLayer: one per edge, the edge midpoints) and
-// n_targets targets (the nodes): the scene's choice, or for "auto" the measured crossover;
-// `reason` says why.
-FarFieldBackend choose_backend(BackendRequest requested, Eigen::Index n_sources, Eigen::Index n_targets, double tolerance,
-                               std::string* reason);
+// The back end of one operator's far field for n_sources sources (the single layer's and double
+// layer's: one per edge, the edge midpoints, on flat facets; 3 per element on curved ones; see
+// far_field_source_count in single_layer.hpp) and n_targets targets (the nodes): the scene's
+// choice, or for "auto" that operator's measured crossover (the single layer's table above; the
+// double layer's fmm::direct_crossover<fmm::Stresslet> at the FMM tolerance it asks for,
+// kFmmToleranceMargin × tolerance); `reason` says why.
+FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, Eigen::Index n_sources, Eigen::Index n_targets,
+                               double tolerance, std::string* reason);
 
 }  // namespace capsflow

@@ -57,6 +57,13 @@ class DoubleLayer {
 
   FarFieldBackend backend() const { return backend_; }
   const std::string& backend_reason() const { return reason_; }
+  int fmm_order() const;  // 0 with the direct far field
+  // Direct checks of the far field (SingleLayerOptions::verify_every): on every verify_every-th
+  // set_surface() (the first one included) the far field of the unit constants, D̃[1] — summed by
+  // the same FMM (set-up, operators, order) as every apply() on that surface — is summed again
+  // directly in full double precision and compared (compare_far_field, the symmetric 3×3 per node).
+  // Counted per surface: the log's `evaluation` is the set_surface() call.
+  const FarFieldCheckLog& far_field_checks() const { return checks_; }
   Eigen::Index far_field_sources() const { return static_cast<Eigen::Index>(source_slots_.size()); }
   // Near-field blocks per node (memory: 6 doubles and an int each).
   double blocks_per_node() const { return static_cast<double>(block_col_.size()) / static_cast<double>(n_nodes_); }
@@ -111,6 +118,7 @@ class DoubleLayer {
   std::vector<int> block_start_, block_col_, slot_start_, slot_;
   std::vector<double> block_, diagonal_;
   std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
+  FarFieldCheckLog checks_;
   PhaseTimes times_;
   double setup_seconds_ = 0, apply_seconds_ = 0;
   long setups_ = 0, applications_ = 0, inexact_applications_ = 0;

@@ -63,7 +63,9 @@ struct SingleLayerOptions {
   int threads = 0;               // 0 = OpenMP default (set per parallel region, never globally)
   int fmm_order = 0;             // > 0 forces the FMM order instead of the one the tolerance calls for
   // > 0: on every verify_every-th apply() (the first one included) the far field is summed again
-  // directly, in full double precision, on the same sources and targets (far_field_check()).
+  // directly, in full double precision, on the same sources and targets (far_field_checks()); the
+  // double layer checks its far field of the unit constants on every verify_every-th surface
+  // (DoubleLayer::set_surface).
   int verify_every = 0;
 };
 
@@ -74,6 +76,22 @@ struct FarFieldCheck {
   double max_relative = 0, rms_relative = 0;
 };
 
+// An operator's direct checks so far (SingleLayerOptions::verify_every): how many, the latest, the
+// one with the largest max difference, the largest RMS, and how many exceeded the tolerance.
+struct FarFieldCheckLog {
+  long checks = 0, above_tolerance = 0;
+  FarFieldCheck last, worst;
+  double worst_rms = 0;
+  void add(const FarFieldCheck& c, double tolerance);
+};
+
+// One check: n target values of `dim` components as summed (far) against the direct re-summation
+// (ref). The difference at a target is the Euclidean norm of its components' differences (a
+// symmetric matrix given by its 6 upper entries, xx yy zz xy xz yz, counts its off-diagonal
+// entries twice: the Frobenius norm); max and RMS over the targets, both relative to the largest
+// reference norm (a zero reference gives 0: agreement, not 0/0).
+FarFieldCheck compare_far_field(const double* far, const double* ref, std::size_t n, int dim, long evaluation);
+
 
 // The automatic corrected_layers with the edge-midpoint far field (docs/boundary-integral.md
 // §4.2.2: from there on the midpoint rule is as accurate as the 3-point far field it replaced).
@@ -83,6 +101,10 @@ inline constexpr int kAutoCorrectedLayers = 3;
 // layers (0 without one), and the corrected layers (never fewer than the ring's). Any operator
 // over the same near-field lists uses these.
 FarFieldRule far_field_rule(const SingleLayerOptions& o);
+// The far field's sources for a surface of `elements` elements and `edges` edges under the rule the
+// options resolve to: one per edge (midpoints) or three per element (Gauss points). What
+// SingleLayer and DoubleLayer count, for callers that size a run without building them.
+Eigen::Index far_field_source_count(const SingleLayerOptions& o, Eigen::Index elements, Eigen::Index edges);
 int near_ring_layers(const SingleLayerOptions& o);
 int corrected_layers(const SingleLayerOptions& o);
 
@@ -105,13 +127,8 @@ class SingleLayer {
   // Seconds in the phases BieSources, BieFar and BieNear, summed over apply() calls.
   const PhaseTimes& times() const { return times_; }
   long evaluations() const { return evaluations_; }
-  // Direct checks made so far (SingleLayerOptions::verify_every): how many, the latest, the one
-  // with the largest max difference, the largest RMS, and how many exceeded the tolerance.
-  long far_field_checks() const { return checks_; }
-  const FarFieldCheck& last_far_field_check() const { return last_check_; }
-  const FarFieldCheck& worst_far_field_check() const { return worst_check_; }
-  double worst_far_field_rms() const { return worst_rms_; }
-  long far_field_checks_above_tolerance() const { return checks_above_; }
+  // Direct checks of the far field made so far (SingleLayerOptions::verify_every).
+  const FarFieldCheckLog& far_field_checks() const { return checks_; }
 
  private:
   void build_sources(const Points& x, const Points& q);
@@ -143,9 +160,7 @@ class SingleLayer {
   std::unique_ptr<fmm::Fmm<fmm::Stokeslet>> fmm_;
   PhaseTimes times_;
   long evaluations_ = 0;
-  long checks_ = 0, checks_above_ = 0;
-  FarFieldCheck last_check_, worst_check_;
-  double worst_rms_ = 0;
+  FarFieldCheckLog checks_;
   std::vector<double> direct_scratch_;  // the direct re-summation (allocated on the first check)
 
   // Off-surface evaluation reuses the sources and far field of the current surface.
