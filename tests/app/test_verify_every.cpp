@@ -123,9 +123,9 @@ TEST(VerifyEvery, ChecksEveryNthEvaluationAndCostsNothingWhenOff) {
   EXPECT_EQ(csv_of(d.path / "e3")[0].size(), rows[0].size() + 2);  // the single layer's two columns only
 }
 
-// fluid.viscosity_ratio ≠ 1: the double layer's far field (its FMM of the unit constants D̃[1], the
-// same set-up and order as every GMRES application on that surface) is checked too, with its own
-// columns, summary key and warning.
+// fluid.viscosity_ratio ≠ 1: the double layer's far field (its FMM of the unit constants D̃[1] and
+// of the solve's first application, the same set-up and order as every GMRES application on that
+// surface) is checked too, with its own columns, summary key and warning.
 // Level 4 (7680 sources): at level 3 the stresslet's leaves of 800 points (fmm/calibration.hpp)
 // leave almost every pair to the near field, and even order 4 agrees with direct to ~3e-9.
 TEST(VerifyEvery, TheDoubleLayersFarFieldIsCheckedWhenTheViscosityRatioIsNotOne) {

@@ -95,7 +95,9 @@ TEST(BackendChoice, TheSingleLayerCrossoverLiesBetweenTheMeasuredSizesOrSaysItIs
     const double c = static_cast<double>(row.crossover);
     EXPECT_GT(c, direct_max) << tol;
     EXPECT_EQ(row.measured, std::isfinite(fmm_min)) << tol;
-    if (row.measured) EXPECT_LE(c, fmm_min) << tol;
+    if (row.measured) {
+      EXPECT_LE(c, fmm_min) << tol;
+    }
   }
   // Tighter tolerances mean higher FMM orders at the same direct cost: never an earlier switch.
   for (double tol : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7})

@@ -59,10 +59,11 @@ class DoubleLayer {
   const std::string& backend_reason() const { return reason_; }
   int fmm_order() const;  // 0 with the direct far field
   // Direct checks of the far field (SingleLayerOptions::verify_every): on every verify_every-th
-  // set_surface() (the first one included) the far field of the unit constants, D̃[1] — summed by
-  // the same FMM (set-up, operators, order) as every apply() on that surface — is summed again
-  // directly in full double precision and compared (compare_far_field, the symmetric 3×3 per node).
-  // Counted per surface: the log's `evaluation` is the set_surface() call.
+  // set_surface() (the first one included) the far field of the unit constants, D̃[1] (the
+  // symmetric 3×3 per node), and that of the first application when set_surface is given u — both
+  // summed by the same FMM (set-up, operators, order) as every apply() on that surface — are summed
+  // again directly in full double precision and compared (compare_far_field); the check is the
+  // worse of the two. Counted per surface: the log's `evaluation` is the set_surface() call.
   const FarFieldCheckLog& far_field_checks() const { return checks_; }
   Eigen::Index far_field_sources() const { return static_cast<Eigen::Index>(source_slots_.size()); }
   // Near-field blocks per node (memory: 6 doubles and an int each).
