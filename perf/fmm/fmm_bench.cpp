@@ -3,7 +3,7 @@
 //   fmm_bench --dist sphere|spheroid|cube|clustered --n 100000 [--ntrg M] [--tol 1e-6 | --order p]
 //             [--leaf L] [--threads T] [--reps 3] [--sample 1000]
 //             [--kernel stokeslet|stresslet|laplace[,...]] [--cache-dir DIR] [--seed S] [--densities K]
-//             [--density random|surface]
+//             [--density random|surface|surface-random]
 //   fmm_bench --input points.txt [--output velocities.txt] [--tol ..] ...
 //
 // Prints one JSON line per run with: dist, n (sources), ntrg, tol, order, leaf, threads,
@@ -22,7 +22,8 @@
 // line each), for ratios measured side by side (perf/fmm/stresslet_bench.sh). The stresslet's
 // density is 6 random components per source (f then n, stresslet.hpp); --density surface (the
 // stresslet on --dist sphere|spheroid) gives it a smooth double layer instead, n the outward
-// normal and f = w·u(y) (tests/fmm/points.hpp, surface_double_layer), as the boundary integral uses it.
+// normal and f = w·u(y) (tests/fmm/points.hpp, surface_double_layer), as the boundary integral uses it;
+// --density surface-random keeps the outward normals with random f (random_surface_double_layer).
 //
 // File format of --input (text): first line "n_src n_trg"; then n_src lines "x y z f1 f2 f3"
 // (one density value per component of the kernel: 6 for the stresslet); then n_trg lines "x y z".
@@ -81,12 +82,14 @@ int run(const Args& a) {
   } else {
     src = capsflow::fmm::testing::make_points(a.dist, a.n, a.seed);
     f = capsflow::fmm::testing::random_density(SD * a.n * std::max(1, a.densities), a.seed + 1);
-    if (a.density == "surface") {
+    if (a.density == "surface" || a.density == "surface-random") {
       if (SD != 6 || (a.dist != "sphere" && a.dist != "spheroid") || a.densities > 1) {
-        std::fprintf(stderr, "fmm_bench: --density surface needs the stresslet, one density, --dist sphere|spheroid\n");
+        std::fprintf(stderr, "fmm_bench: --density %s needs the stresslet, one density, --dist sphere|spheroid\n",
+                     a.density.c_str());
         return 2;
       }
-      f = capsflow::fmm::testing::surface_double_layer(a.dist, src);
+      f = a.density == "surface" ? capsflow::fmm::testing::surface_double_layer(a.dist, src)
+                                 : capsflow::fmm::testing::random_surface_double_layer(a.dist, src, a.seed + 1);
     } else if (a.density != "random") {
       std::fprintf(stderr, "fmm_bench: unknown --density %s\n", a.density.c_str());
       return 2;
