@@ -41,7 +41,7 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
                            : "the single layer's FMM/direct crossover (extrapolated: direct was faster at every measured size)";
     } else {
       c = fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance);
-      whose = "the stresslet FMM's measured FMM/direct crossover";
+      whose = "the stresslet FMM's FMM/direct crossover (fmm/calibration.hpp)";
     }
     const bool direct = static_cast<double>(n_src) * static_cast<double>(n_trg) < static_cast<double>(c) * static_cast<double>(c);
     b = direct ? FarFieldBackend::Direct : FarFieldBackend::Fmm;

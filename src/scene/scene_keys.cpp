@@ -267,7 +267,7 @@ const Section<FluidSpec>& fluid_keys() {
               "λ = viscosity inside / outside; λ = 1: the single layer alone (the code path and numbers of a scene "
               "without the key); otherwise the second-kind equation (1 + λ)/2 u + (1 − λ) D[u] = v∞ − S[q] solved by "
               "deflated GMRES at every evaluation (`docs/boundary-integral.md` §4.8); the double layer's far field "
-              "follows `backend` (FMM or direct sum; `\"auto\"` by the stresslet FMM's own measured crossover)"),
+              "follows `backend` (FMM or direct sum; `\"auto\"` by the stresslet FMM's own crossover)"),
        // 10× the coldest solve measured (≤ 10 iterations on spheres and a/b = 2 spheroids, λ = 0.01–100).
        integer("max_gmres", &FluidSpec::max_gmres, 100, closed(1, 10000),
                "λ ≠ 1: iteration cap of the second-kind GMRES solve (1–3 are used per evaluation, ≤ 10 from a cold "
