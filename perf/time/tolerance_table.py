@@ -27,7 +27,10 @@ Writes OUT.jsonl (one line per run) and OUT.md (the table).
 Usage:
   perf/time/tolerance_table.py --levels 3 [--cases fig4,builtin,...] [--work build/tolerance_runs]
                                [--out perf/time/tolerance_L3] [--variants rkc_1e-6,heun,ref,...]
-                               [--extra NAME='--set k=v ...'] [--dry-run]
+                               [--extra NAME='--set k=v ...'] [--dry-run] [--no-run]
+  --extra: leading NAME=VALUE words set the environment of that run, EXE=path runs another binary
+  (perf/time/tolerance_L3_norms.* came from an experimental binary: docs/time-integration.md §5.7).
+  The reference must be run by the same --exe, since a run is reused only if its command matches.
 """
 import argparse
 import csv
@@ -236,8 +239,8 @@ def main():
         for r in records:
             f.write(json.dumps(r, ensure_ascii=False) + "\n")
     with open(out + ".md", "w") as f:
-        f.write(table(records))
-    sys.stdout.write(table(records))
+        f.write(compact_table(records) + "\n" + table(records))
+    sys.stdout.write(compact_table(records) + "\n" + table(records))
 
 
 def table(records):
@@ -276,6 +279,38 @@ def table(records):
                 f"| | | fold indicators (reference run): facet angle max {fmt(f['facet_angle_max'], '.0f')}°, "
                 f"grid-scale max {fmt(f['grid_oscillation_max'], '.3f')} (threshold {fmt(f['grid_oscillation_threshold'], '.3f')}, "
                 f"first above at γ̇t = {fmt(ref['first_fold_t'], 'g')}), warnings {', '.join(map(str, f['warnings'])) or 'none'} | | | | | | |")
+    return "\n".join(lines) + "\n"
+
+
+def compact_table(records):
+    """One row per case: each RKC variant as 'evaluations (× fewer than Heun), max |ΔD_ij|'."""
+    by_case, variants = {}, []
+    for r in records:
+        by_case.setdefault((r["case"], r["level"]), {})[r["variant"]] = r
+        if r["variant"] not in ("ref", "half", "heun") and r["variant"] not in variants:
+            variants.append(r["variant"])
+    head = "| case | elements, to γ̇t | Heun automatic: evaluations, max \\|ΔD_ij\\| | reference's own error | " + \
+        " | ".join(f"{v}: evaluations (×), max \\|ΔD_ij\\|" for v in variants) + " | folds (reference run) |"
+    lines = [head, "|---|---|---|---|" + "---|" * len(variants) + "---|"]
+    for (case, level), rs in by_case.items():
+        heun, half, ref = rs.get("heun"), rs.get("half"), rs.get("ref")
+        cells = [CASES[case][2], f"{ref['elements']}, {ref['t_end']:g}" if ref else "",
+                 f"{heun['rhs_evaluations']}, {heun['max_dD']:.1e}" if heun else "–",
+                 f"{half['max_dD'] / 3:.0e}" if half else "not run"]
+        for v in variants:
+            r = rs.get(v)
+            if not r:
+                cells.append("–")
+                continue
+            bad = r["max_dD"] > ITEM_ERROR or r["outputs_compared"] != r["outputs_in_ref"]
+            x = f"{r['fewer_than_heun']:.1f}×" if r["fewer_than_heun"] else "–"
+            cells.append(f"{r['rhs_evaluations']} ({x}), {'**' if bad else ''}{r['max_dD']:.1e}{'**' if bad else ''}")
+        f = ref["fold"] if ref else None
+        cells.append("–" if not f else
+                     f"facet ≤ {f['facet_angle_max']:.0f}°, grid-scale ≤ {f['grid_oscillation_max']:.2f} " +
+                     (f"(> {f['grid_oscillation_threshold']:.3f} from γ̇t = {ref['first_fold_t']:g})" if ref["first_fold_t"] is not None
+                      else f"(never > {f['grid_oscillation_threshold']:.3f})"))
+        lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
