@@ -47,7 +47,7 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
       far_rule_(far_field_rule(opt)),
       rule_(opt.singular_points),
       rule_u_(opt.singular_radial_points),
-      lists_(triangles, n_nodes, near_ring_layers(opt), corrected_layers(opt)),
+      lists_(triangles, n_nodes, near_ring_layers(opt), double_layer_corrected_layers(opt)),
       surface_(triangles, opt.geometry),
       source_slots_(far_field_source_slots(lists_, triangles.rows(), far_rule_ == FarFieldRule::EdgeMidpoints)) {
   if (opt.near_ring_depth > 0) throw std::invalid_argument("double layer: near_ring_depth > 0 is not supported");
@@ -283,7 +283,9 @@ void DoubleLayer::assemble_near_field(const Points& x) {
       }
     };
     const IndexRange touching = lists_.touching(i), ring = lists_.ring(i), band = lists_.band(i);
-    add_elements(touching, slot, nullptr, nullptr, 0, nullptr);
+    // A flat touching element's far-rule points lie in its plane through x_i, where T(r)·ñ = 0: the
+    // far field added nothing there, so there is nothing to subtract (§4.7.2).
+    if (surface_.curved()) add_elements(touching, slot, nullptr, nullptr, 0, nullptr);
     if (surface_.curved()) {  // the touching elements' exact singular integrals
       for (size_t j = 0; j < touching.size(); ++j) {
         const int e = touching.first[j];

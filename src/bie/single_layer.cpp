@@ -40,6 +40,11 @@ int corrected_layers(const SingleLayerOptions& o) {
   return std::max(near_ring_layers(o), o.corrected_layers > 0 ? o.corrected_layers : kAutoCorrectedLayers);
 }
 
+int double_layer_corrected_layers(const SingleLayerOptions& o) {
+  if (far_field_rule(o) == FarFieldRule::GaussPoints) return near_ring_layers(o);
+  return std::max(near_ring_layers(o), o.corrected_layers > 0 ? o.corrected_layers : kAutoDoubleLayerCorrectedLayers);
+}
+
 SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt)
     : tri_(triangles),
       n_nodes_(n_nodes),

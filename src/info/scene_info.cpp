@@ -150,13 +150,15 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   run["memory_mb"] = 2.4e-3 * static_cast<double>(mesh.num_elements()) + 15;
   run["memory_fmm_operators"] = b == FarFieldBackend::Fmm;
   // λ ≠ 1, the double layer alone (peak RSS of perf/bie/double_layer_bench at 5 120–81 920
-  // elements): its near-field blocks, ~2.2 KB per element, with the direct far field; with the FMM
+  // elements): its near-field blocks and rule points, ~2.1 KB per element with the direct far field
+  // (the slope of the peak RSS between 5 120 and 20 480 elements; 3.8 KB before its band was
+  // dropped, boundary-integral.md §4.7.3); with the FMM
   // ~20 KB per element and ~0.8 GB of stresslet operators (two orders: the solve's and the inexact
   // Krylov steps'; 0.9 / 1.2 / 2.4 GB at 5 120 / 20 480 / 81 920 elements).
   run["memory_double_layer_fmm_operators"] = false;
   if (run.contains("viscosity_ratio")) {
     const bool dl_fmm = run["viscosity_ratio"]["double_layer_backend"] == to_string(FarFieldBackend::Fmm);
-    run["memory_mb"] = run["memory_mb"].get<double>() + (dl_fmm ? 20e-3 : 2.2e-3) * static_cast<double>(mesh.num_elements());
+    run["memory_mb"] = run["memory_mb"].get<double>() + (dl_fmm ? 20e-3 : 2.1e-3) * static_cast<double>(mesh.num_elements());
     run["memory_double_layer_fmm_operators"] = dl_fmm;
   }
   info["run"] = run;

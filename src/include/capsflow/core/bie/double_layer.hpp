@@ -10,7 +10,8 @@
 // Gauss-type identity PV∫ T(x − y)·n dS = 4π I). The operator is
 //   D_h[u](x_i) = ½ u_i + D̃[u](x_i) − D̃[1](x_i) u_i,
 // D̃ the discrete integral (far field: the single layer's far-field points as stresslet sources;
-// touching elements, near ring and band integrated as for the single layer) and D̃[1](x_i) its value
+// touching elements and near ring integrated as for the single layer, no band unless asked:
+// kAutoDoubleLayerCorrectedLayers) and D̃[1](x_i) its value
 // for the three unit constants: the identity is imposed exactly (D_h[c] = c/2), which removes the
 // O(h) error of the polyhedral vertices and every error proportional to u_i.
 //
