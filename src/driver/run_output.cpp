@@ -41,7 +41,7 @@ const Points& Simulation::Impl::state_velocity() {
   if (const Points* v = stepper->velocity_at_state()) {
     v_out = *v;
   } else {
-    dyn->velocity(st.x, v_out);
+    dyn->evaluate(st.x, v_out, {EvaluationHint::Role::Output, 0});
     stepper->forget_state();  // the warm start moved: recompute F(x) (restart-safe)
   }
   return v_out;

@@ -73,6 +73,15 @@ nlohmann::json Simulation::Impl::timing_table() const {
           {"iterations", {{"newton", n.newton_iterations}, {"rotation_cg", n.cg_iterations}, {"mass_cg", n.mass_cg_iterations},
                           {"rotation_fresh_starts", n.rotation_fresh_starts}}}};
   if (dyn->viscosity_ratio_solver()) table["iterations"]["gmres"] = n.gmres_iterations;
+  // The rotation solve by kind of evaluation: what a stage costs against a probe or an output.
+  nlohmann::json by_kind = nlohmann::json::object();
+  for (std::size_t k = 0; k < kEvaluationKindNames.size(); ++k) {
+    const SolveCounts& c = n.by_kind[k];
+    if (c.evaluations > 0)
+      by_kind[kEvaluationKindNames[k]] = {{"evaluations", c.evaluations}, {"newton", c.newton_iterations},
+                                           {"rotation_cg", c.cg_iterations}};
+  }
+  table["iterations"]["by_evaluation"] = by_kind;
   return table;
 }
 
@@ -120,6 +129,15 @@ void Simulation::Impl::log_finish(const nlohmann::json& timing) const {
     const double wall = v.get<double>(), cpu = timing["cpu_seconds"][k].get<double>();
     spdlog::info("  {:<26}{:>8.2f}  {:>5.1f}%  {:>8.2f}", k, wall, total > 0 ? 100 * wall / total : 0, wall > 0 ? cpu / wall : 0);
   }
+  std::string per_kind;  // only where there is a rotation solve (GSMB)
+  if (timing["iterations"]["newton"].get<long>() > 0) {
+    for (const auto& [k, c] : timing["iterations"]["by_evaluation"].items()) {
+      const double e = c["evaluations"].get<double>();
+      per_kind += fmt::format("  {} {:.2f} / {:.1f} ({:.0f})", k, c["newton"].get<double>() / e,
+                              c["rotation_cg"].get<double>() / e, e);
+    }
+  }
+  if (!per_kind.empty()) spdlog::info("rotation Newton / CG per evaluation (evaluations):{}", per_kind);
   spdlog::info("D12 {:.4f}  D13 {:.4f}  D23 {:.4f}  L {:.3f} {:.3f} {:.3f}  Le {:.3f} {:.3f} {:.3f}", s.D.D12, s.D.D13, s.D.D23,
                s.L[0], s.L[1], s.L[2], s.Le[0], s.Le[1], s.Le[2]);
 }

@@ -48,12 +48,26 @@ PhaseTimes CapsuleDynamics::times() const {
   return t;
 }
 
-void CapsuleDynamics::velocity(const Points& x, Points& v, bool probe) {
+EvaluationKind evaluation_kind(const EvaluationHint& hint) {
+  switch (hint.role) {
+    case EvaluationHint::Role::Probe: return EvaluationKind::Probe;
+    case EvaluationHint::Role::Output: return EvaluationKind::Output;
+    case EvaluationHint::Role::Trajectory: break;
+  }
+  return hint.stage == 0 ? EvaluationKind::StepStart : EvaluationKind::Stage;
+}
+
+void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint& hint) {
+  const bool probe = hint.role == EvaluationHint::Role::Probe;
+  SolveCounts& by_kind = counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))];
+  ++by_kind.evaluations;
   Stopwatch clock;
   for (int attempt = 0;; ++attempt) {
     wall_->forces(x, R_, &last_stats_);
     counters_.newton_iterations += last_stats_.newton_iterations;
     counters_.cg_iterations += last_stats_.cg_iterations;
+    by_kind.newton_iterations += last_stats_.newton_iterations;
+    by_kind.cg_iterations += last_stats_.cg_iterations;
     if (last_stats_.converged) break;
     if (attempt == 1) {
       clock.lap(times_, Phase::Wall);

@@ -16,6 +16,7 @@
 // once from the nodal normals (counted in RhsCounters::rotation_fresh_starts); if that fails too,
 // or the mass-matrix CG stops at its iteration cap, or the velocity is not finite, velocity()
 // throws SolverFailure with a one-line description.
+#include <array>
 #include <memory>
 
 #include "capsflow/core/bie/single_layer.hpp"
@@ -28,12 +29,24 @@
 
 namespace capsflow {
 
+// What the rotation solve did for one kind of evaluation (RhsCounters::by_kind).
+struct SolveCounts {
+  long evaluations = 0, newton_iterations = 0, cg_iterations = 0;
+};
+
+// The kinds of evaluation counted apart, from the hint: the step's start state (stage 0), a later
+// stage of a step, a spectral-radius probe, the run's output at the current state.
+enum class EvaluationKind { StepStart, Stage, Probe, Output };
+inline constexpr std::array<const char*, 4> kEvaluationKindNames = {"step_start", "stage", "probe", "output"};
+EvaluationKind evaluation_kind(const EvaluationHint& hint);
+
 // What the inner solvers of the right-hand side did, summed over evaluations.
 struct RhsCounters {
   long evaluations = 0;
   long newton_iterations = 0, cg_iterations = 0, mass_cg_iterations = 0;
   long rotation_fresh_starts = 0;  // Newton solves retried from the nodal normals
   long gmres_iterations = 0;       // λ ≠ 1: double-layer applications of the second-kind solves
+  std::array<SolveCounts, kEvaluationKindNames.size()> by_kind;  // the rotation solve by EvaluationKind
 };
 
 class CapsuleDynamics final : public RightHandSide {
@@ -43,10 +56,12 @@ class CapsuleDynamics final : public RightHandSide {
                   std::unique_ptr<shell::Wall> wall = nullptr);
 
   // v(x) and, as by-products, the load q and R_s of this evaluation. Throws SolverFailure.
-  // probe: a point off the trajectory (a spectral-radius probe): inner warm starts stay as they are.
-  void velocity(const Points& x, Points& v, bool probe = false);
-  void evaluate(const Points& x, Points& v, const EvaluationHint& hint) override {
-    velocity(x, v, hint.role == EvaluationHint::Role::Probe);
+  // A probe (a point off the trajectory, Role::Probe) leaves the second-kind solve's warm start as
+  // it is. The hint also says which kind of evaluation the counters book it under.
+  void evaluate(const Points& x, Points& v, const EvaluationHint& hint) override;
+  // The same; probe: Role::Probe, else a step's start state.
+  void velocity(const Points& x, Points& v, bool probe = false) {
+    evaluate(x, v, {probe ? EvaluationHint::Role::Probe : EvaluationHint::Role::Trajectory, 0});
   }
 
   const Points& load() const { return q_; }

@@ -18,6 +18,7 @@ struct EvaluationHint {
   enum class Role {
     Trajectory,  // a state or stage of a step: the solution passes near it
     Probe,       // y + δw of the spectral-radius power iteration: off the trajectory
+    Output,      // the current state, for the run's output (loads, energies, velocities)
   };
   Role role = Role::Trajectory;
   int stage = 0;  // 0: at the step's start state y_n; j ≥ 1: the scheme's j-th stage point
