@@ -126,6 +126,7 @@ double GsmbWall::pass(const Points& x, Prologue prologue, bool want_K, bool want
   // the Newton step) runs in the same team before the elements.
   eout_.resize(ne);
   if (prologue == Prologue::Predict && start_.size() != n) start_ = triads_;
+  const bool from_kept = prologue == Prologue::Predict && kept_usable();  // the stage predictor
   double* Kv = K_.valuePtr();
   par::TeamBarrier barrier;
   const bool team = ne > kParallelGsmbPass;
@@ -144,7 +145,10 @@ double GsmbWall::pass(const Points& x, Prologue prologue, bool want_K, bool want
         const Vec3 nc = area_weighted_normal(x, topo_, i);
         n_cur_.row(i) = nc.transpose();
         Vec3 w;
-        if (minimal_rotation(Vec3(n_prev_.row(i)), nc, w)) triads_.rotate(i, w);
+        if (from_kept)
+          predict_from_kept(i, nc);
+        else if (minimal_rotation(Vec3(n_prev_.row(i)), nc, w))
+          triads_.rotate(i, w);
         n_prev_.row(i) = n_cur_.row(i);
         start_.d.row(i) = triads_.d.row(i);
         start_.t1.row(i) = triads_.t1.row(i);
@@ -256,8 +260,34 @@ double GsmbWall::pass(const Points& x, Prologue prologue, bool want_K, bool want
   return res;
 }
 
+bool GsmbWall::kept_usable() const {
+  if (warm_.terms <= 0 || warm_.terms > WarmStart::kTerms) return false;
+  for (int k = 0; k < warm_.terms; ++k) {
+    const int s = warm_.slot[k];
+    if (s < 0 || s >= WarmStart::kSlots || kept_d_[s].rows() != topo_.n_nodes) return false;
+  }
+  return true;
+}
+
+void GsmbWall::predict_from_kept(int i, const Vec3& nc) {
+  // Each kept director carried by its node's normal from that solve to this state (the default
+  // predictor applied to the slot), then combined with the scheme's weights.
+  Vec3 d = Vec3::Zero(), w;
+  for (int k = 0; k < warm_.terms; ++k) {
+    const int s = warm_.slot[k];
+    Vec3 dk = kept_d_[s].row(i);
+    if (minimal_rotation(Vec3(kept_n_[s].row(i)), nc, w)) dk = rodrigues(w, dk);
+    d += warm_.weight[k] * dk;
+  }
+  if (d.squaredNorm() > 0 && minimal_rotation(Vec3(triads_.d.row(i)), d.normalized(), w)) triads_.rotate(i, w);
+}
+
 WallStats GsmbWall::solve_rotations(const Points& x) {
   WallStats st;
+  if (warm_.keep_start >= 0 && warm_.keep_start < WarmStart::kSlots) {
+    kept_d_[warm_.keep_start] = triads_.d;  // the last solve and its normals
+    kept_n_[warm_.keep_start] = n_prev_;
+  }
   // The predictor runs in the first element pass (pass(), Prologue::Predict), which also keeps
   // the predicted triads in start_.
   if (!opt_.predict) start_ = triads_;
@@ -270,6 +300,11 @@ WallStats GsmbWall::solve_rotations(const Points& x) {
     newton(x, kSafeGeometricFloor, st, Prologue::None);
   }
   last_newton_ = st.newton_iterations;
+  if (st.converged && opt_.predict && warm_.keep >= 0 && warm_.keep < WarmStart::kSlots) {
+    kept_d_[warm_.keep] = triads_.d;
+    kept_n_[warm_.keep] = n_prev_;  // the normals of this solve (the predictor set them)
+  }
+  warm_ = WarmStart{};
   return st;
 }
 

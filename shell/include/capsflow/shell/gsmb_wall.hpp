@@ -70,6 +70,10 @@ class GsmbWall : public Wall {
   Eigen::VectorXd state() const override;
   void set_state(const Eigen::VectorXd& s) override;
   void restart_rotations(const Points& x) override;
+  /// The stage predictor: each kept director is turned by the smallest rotation from its node's
+  /// normal at that solve to the current one (the default predictor, per slot), the predicted
+  /// director is the normalised weighted sum, and the triad is turned onto it.
+  void set_warm_start(const WarmStart& w) override { warm_ = w; }
 
   // ---- lower-level access (tests, forward static mode, diagnostics) ----
   /// Rotation solve only (positions fixed); leaves R_s of the final state in the internal buffer.
@@ -116,7 +120,12 @@ class GsmbWall : public Wall {
   void newton(const Points& x, double floor, WallStats& st, Prologue first);
   // One element pass after the prologue (see evaluate()); returns max_i |R_theta,i| / K_ii.
   double pass(const Points& x, Prologue prologue, bool want_K, bool want_fx);
+  // The predictor of node i from the kept solutions of warm_ (set_warm_start), in the first pass.
+  void predict_from_kept(int i, const Vec3& nc);
+  bool kept_usable() const;
   Points D_, n_prev_, n_cur_;  // reference directors; facet normals of the last and current solve
+  WarmStart warm_;             // for the next solve only
+  std::array<Points, WarmStart::kSlots> kept_d_, kept_n_;  // kept directors and their solves' normals
   NodalTriads triads_;
   NodalTriads start_;  // predicted triads at the start of a solve (retry from them)
   Points fx_, g_;

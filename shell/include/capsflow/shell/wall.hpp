@@ -7,6 +7,7 @@
 // area is q from M(x) q = R_s (see load_recovery.hpp); with v = v_inf - S[q] a pre-inflated
 // capsule shrinks (R_s, q point outward when the wall is stretched).
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "capsflow/shell/element.hpp"
@@ -33,6 +34,20 @@ class Wall {
   /// Forget the warm start: the next forces() solves the rotations from the nodal normals of x
   /// (for a stage state far from the previous one, where the warm start can defeat Newton).
   virtual void restart_rotations(const Points& x) { (void)x; }
+
+  /// Where the next forces() starts its rotation solve, told by the time scheme (the stage
+  /// predictor, docs/shell.md §2.4): solutions are kept in a few slots, and a stage whose state is
+  /// ≈ Σ weight_k × (the state of slot_k) starts from the same combination of their solutions.
+  /// Applies to the next forces() only; walls without rotations ignore it.
+  struct WarmStart {
+    static constexpr int kSlots = 4, kTerms = 4;
+    int keep_start = -1;  ///< before solving, keep the solution it would start from (the last call's) here
+    int keep = -1;        ///< after solving, keep this call's solution here
+    int terms = 0;        ///< 0: start from the last call's solution (the default)
+    std::array<int, kTerms> slot{};
+    std::array<double, kTerms> weight{};  ///< Σ weight = 1
+  };
+  virtual void set_warm_start(const WarmStart& w) { (void)w; }
 };
 
 /// Membrane-only wall (paper §2.3.3): no rotations; R_s = d/dx sum_e A0 W_s.
