@@ -61,8 +61,15 @@ void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
   const bool probe = hint.role == EvaluationHint::Role::Probe;
   SolveCounts& by_kind = counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))];
   ++by_kind.evaluations;
+  shell::Wall::WarmStart warm;
+  static_assert(shell::Wall::WarmStart::kSlots == StagePredictor::kSlots &&
+                shell::Wall::WarmStart::kTerms == StagePredictor::kTerms);
+  const StagePredictor& p = hint.predictor;
+  warm.keep_start = p.keep_start, warm.keep = p.keep, warm.terms = p.terms, warm.slot = p.slot, warm.weight = p.weight;
   Stopwatch clock;
   for (int attempt = 0;; ++attempt) {
+    wall_->set_warm_start(warm);
+    warm.keep_start = -1, warm.terms = 0;  // a retry starts from the nodal normals (and keeps its solution)
     wall_->forces(x, R_, &last_stats_);
     counters_.newton_iterations += last_stats_.newton_iterations;
     counters_.cg_iterations += last_stats_.cg_iterations;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <Eigen/Eigenvalues>
 #include <limits>
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,66 @@ namespace {
 // Step-size controller: the classic safety factor 0.8 and growth bounds [0.1, 10] of RKC.
 constexpr double kSafety = 0.8, kMinFactor = 0.1, kMaxFactor = 10.0;
 }  // namespace
+
+void stage_weights(const Points& y, const Points* const* states, int m, double* w) {
+  static_assert(StagePredictor::kTerms == 4, "three unknown weights at most");
+  w[0] = 1;
+  const int k = m - 1;  // unknowns: the weights of states 1..m−1 (states_0 takes the rest)
+  if (k <= 0) return;
+  // Normal equations of min |(y − s_0) − Σ c_a (s_a − s_0)|, padded to 3×3 with the identity.
+  Eigen::Matrix3d G = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  const double* s0 = states[0]->data();
+  const double* yy = y.data();
+  const Eigen::Index n = y.size();
+  double d[3];
+  for (Eigen::Index e = 0; e < n; ++e) {
+    const double t = yy[e] - s0[e];
+    for (int a = 0; a < k; ++a) d[a] = states[a + 1]->data()[e] - s0[e];
+    for (int a = 0; a < k; ++a) {
+      b[a] += d[a] * t;
+      for (int c = 0; c <= a; ++c) G(a, c) += d[a] * d[c];
+    }
+  }
+  Eigen::Vector3d scale = Eigen::Vector3d::Zero();
+  for (int a = 0; a < k; ++a) scale[a] = G(a, a) > 0 ? 1 / std::sqrt(G(a, a)) : 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int c = 0; c <= a; ++c) G(a, c) = G(c, a) = a < k ? G(a, c) * scale[a] * scale[c] : (a == c ? 1.0 : 0.0);
+  b = b.cwiseProduct(scale);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(G);
+  const double top = eig.eigenvalues().maxCoeff();  // ≥ 1: unit diagonal
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 3; ++a) {
+    const double lambda = eig.eigenvalues()[a];
+    if (lambda > 1e-12 * top) c += (eig.eigenvectors().col(a).dot(b) / lambda) * eig.eigenvectors().col(a);
+  }
+  c = c.cwiseProduct(scale);
+  for (int a = 0; a < k; ++a) {
+    w[a + 1] = c[a];
+    w[0] -= c[a];
+  }
+}
+
+EvaluationHint Rkc::stage_hint(int m, const Points& y) const {
+  EvaluationHint h{EvaluationHint::Role::Trajectory, m};
+  if (!opt_.predict_stages) return h;
+  StagePredictor& p = h.predictor;
+  // Slots: Y_0 in 0, Y_1 in 1, Y_m (m ≥ 2) in 2 + m mod 2. Y_0's solution is the last evaluation's
+  // (F(y_n), or a probe δ-close to it), kept when Y_1 is evaluated; Y_s is not kept.
+  if (m == 1) {
+    p.keep_start = 0;
+    p.keep = 1;
+    return h;
+  }
+  const Points* states[StagePredictor::kTerms] = {&y0_, m >= 4 ? &y1_ : (m == 2 ? &yjm2_ : &yj_), &yjm2_, &yj_};
+  int slots[StagePredictor::kTerms] = {0, 1, 2 + (m - 1) % 2, 2 + m % 2};
+  p.terms = m == 2 ? 2 : (m == 3 ? 3 : 4);  // distinct: {Y_0, Y_1}, {Y_0, Y_1, Y_2}, {Y_0, Y_1, Y_{m−1}, Y_{m−2}}
+  double w[StagePredictor::kTerms];
+  stage_weights(y, states, p.terms, w);
+  for (int t = 0; t < p.terms; ++t) p.slot[t] = slots[t], p.weight[t] = w[t];
+  if (m < k_.stages) p.keep = 2 + m % 2;
+  return h;
+}
 
 double Rkc::rms(const Points& v) const {
   return v.rows() ? std::sqrt(v.squaredNorm() / static_cast<double>(v.rows())) : 0.0;
@@ -67,8 +128,9 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   // Y_1 = Y_0 + μ̃_1 τ F(Y_0)
   yjm2_ = y0_;
   yjm1_.noalias() = y0_ + (k.mu_t[1] * tau) * f0_;
+  if (opt_.predict_stages && s >= 4) y1_ = yjm1_;
   for (int j = 2; j <= s; ++j) {
-    f.evaluate(yjm1_, fj_, {EvaluationHint::Role::Trajectory, j - 1});
+    f.evaluate(yjm1_, fj_, stage_hint(j - 1, yjm1_));
     ++rep.evaluations;
     yj_.noalias() = (1 - k.mu[j] - k.nu[j]) * y0_ + k.mu[j] * yjm1_ + k.nu[j] * yjm2_ +
                     (k.mu_t[j] * tau) * fj_ + (k.gamma_t[j] * tau) * f0_;
@@ -77,7 +139,7 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   }
   // yjm1_ = Y_s = y_{n+1}; its velocity is the next step's F_n.
   if (opt_.project && yjm1_.allFinite()) opt_.project(yjm1_);
-  f.evaluate(yjm1_, f1_, {EvaluationHint::Role::Trajectory, s});
+  f.evaluate(yjm1_, f1_, stage_hint(s, yjm1_));
   ++rep.evaluations;
   if (!yjm1_.allFinite() || !f1_.allFinite()) {
     rep.error = std::numeric_limits<double>::infinity();

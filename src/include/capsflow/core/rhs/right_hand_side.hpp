@@ -4,8 +4,9 @@
 //
 // An implementation may keep inner-solver warm starts from one call to the next (the GSMB rotation
 // solve does). The hint tells it where the point lies in the scheme, so that it can predict its
-// inner solve from earlier stages, or keep a spectral-radius probe from moving its warm start.
-// Today's implementation ignores it: evaluations are identical with any hint.
+// inner solve from earlier stages (StagePredictor), or keep a spectral-radius probe from moving
+// its warm start. Results do not depend on the hint beyond the inner solvers' tolerances.
+#include <array>
 #include <functional>
 #include <stdexcept>
 #include <utility>
@@ -14,14 +15,31 @@
 
 namespace capsflow {
 
+// The stage predictor (docs/time-integration.md §5.7): a scheme whose stage states are linear
+// combinations of earlier ones tells the right-hand side which, and the right-hand side starts its
+// inner solve from the same combination of their solutions. The right-hand side keeps solutions in
+// kSlots slots: keep_start keeps the solution of the last evaluation (made before this one), keep
+// this evaluation's; this state ≈ Σ weight_k × (the state whose solution is in slot_k), Σ weight = 1.
+// terms = 0: no prediction (start from the last evaluation's solution, the default).
+struct StagePredictor {
+  static constexpr int kSlots = 4, kTerms = 4;
+  int keep_start = -1, keep = -1;
+  int terms = 0;
+  std::array<int, kTerms> slot{};
+  std::array<double, kTerms> weight{};
+};
+
 struct EvaluationHint {
   enum class Role {
     Trajectory,  // a state or stage of a step: the solution passes near it
     Probe,       // y + δw of the spectral-radius power iteration: off the trajectory
     Output,      // the current state, for the run's output (loads, energies, velocities)
   };
+  EvaluationHint() = default;
+  EvaluationHint(Role r, int j) : role(r), stage(j) {}
   Role role = Role::Trajectory;
   int stage = 0;  // 0: at the step's start state y_n; j ≥ 1: the scheme's j-th stage point
+  StagePredictor predictor;
 };
 
 // An inner solve of the right-hand side failed (one line: what, and how far it got). The run

@@ -30,6 +30,13 @@
 
 namespace capsflow {
 
+// The weights w (Σ w = 1) of the combination of states[0..m) closest to y, min |y − Σ w_k
+// states_k| (Frobenius), m ≤ StagePredictor::kTerms. Directions in which the differences
+// states_k − states_0 are nearly dependent (relative singular value below 1e-6, after scaling
+// each to unit length) are dropped rather than extrapolated along; a state equal to states_0 gets
+// weight 0. Deterministic: serial sums in a fixed order.
+void stage_weights(const Points& y, const Points* const* states, int m, double* w);
+
 class Rkc final : public TimeStepper {
  public:
   struct Options {
@@ -46,6 +53,10 @@ class Rkc final : public TimeStepper {
     // shrinks is not stepped with a stale ρ.
     std::function<double(const Points&)> analytic_rho;
     std::function<void(Points&)> project;  // applied to y_{n+1} before F(y_{n+1}); may be empty
+    // The stage predictor (EvaluationHint::predictor): each stage Y_m, m ≥ 2, is told the weights
+    // of the combination of Y_0, Y_1, Y_{m−2}, Y_{m−1} closest to it (stage_weights), so that the
+    // right-hand side starts its inner solve from the same combination of their solutions.
+    bool predict_stages = true;
   };
   struct StepReport {
     bool accepted = false;
@@ -91,6 +102,8 @@ class Rkc final : public TimeStepper {
 
  private:
   void refresh_rho(RightHandSide& f, const Points& x);
+  // The hint of the evaluation at stage point Y_m (m ≥ 1; yjm2_ = Y_{m−1}, yj_ = Y_{m−2}).
+  EvaluationHint stage_hint(int m, const Points& y) const;
   double rms(const Points& v) const;
 
   Options opt_;
@@ -101,7 +114,7 @@ class Rkc final : public TimeStepper {
   long rho_evaluations_ = 0;
   int steps_since_rho_ = 0;
   bool rho_stale_ = true;
-  Points f0_, f1_, y0_, yjm1_, yjm2_, yj_, fj_, est_;
+  Points f0_, f1_, y0_, y1_, yjm1_, yjm2_, yj_, fj_, est_;  // y1_ = Y_1 (the stage predictor)
   bool f0_valid_ = false;
   double tau_next_ = 0, tau_prev_ = 0, err_prev_ = 0;
   bool last_rejected_ = false;
