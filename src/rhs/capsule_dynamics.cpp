@@ -54,7 +54,8 @@ EvaluationKind evaluation_kind(const EvaluationHint& hint) {
     case EvaluationHint::Role::Output: return EvaluationKind::Output;
     case EvaluationHint::Role::Trajectory: break;
   }
-  return hint.stage == 0 ? EvaluationKind::StepStart : EvaluationKind::Stage;
+  if (hint.stage == 0) return EvaluationKind::StepStart;
+  return hint.predictor.terms > 0 ? EvaluationKind::PredictedStage : EvaluationKind::Stage;
 }
 
 void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint& hint) {

@@ -35,9 +35,11 @@ struct SolveCounts {
 };
 
 // The kinds of evaluation counted apart, from the hint: the step's start state (stage 0), a later
-// stage of a step, a spectral-radius probe, the run's output at the current state.
-enum class EvaluationKind { StepStart, Stage, Probe, Output };
-inline constexpr std::array<const char*, 4> kEvaluationKindNames = {"step_start", "stage", "probe", "output"};
+// stage of a step started from the last evaluation's solution, one started from the scheme's stage
+// predictor (EvaluationHint::predictor), a spectral-radius probe, the run's output at the current state.
+enum class EvaluationKind { StepStart, Stage, PredictedStage, Probe, Output };
+inline constexpr std::array<const char*, 5> kEvaluationKindNames = {"step_start", "stage", "predicted_stage", "probe",
+                                                                    "output"};
 EvaluationKind evaluation_kind(const EvaluationHint& hint);
 
 // What the inner solvers of the right-hand side did, summed over evaluations.
