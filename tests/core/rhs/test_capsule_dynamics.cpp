@@ -332,7 +332,7 @@ TEST(Dynamics, RkcStagePredictorSavesNewtonStepsAndChangesResultsOnlyWithinTheSo
   EXPECT_GT(n_without, 1.6) << n_without;  // the control: the last stage's solution is a poorer start
   // Both runs solve the rotations to 1e-10 rad, and the positions agree to far below that (measured
   // 4.8e-12 here; D_ij within 3.4e-10 on the Fig. 4 case at 5 120 elements to γ̇t = 5, through its
-  // folds: perf/RESULTS.md §6.4).
+  // folds: perf/RESULTS.md §6.5).
   EXPECT_LT((with.x - without.x).cwiseAbs().maxCoeff(), 1e-9);
   std::printf("stages m >= 2: %ld, Newton steps per stage %.3f with the predictor, %.3f without; max |dx| %.1e\n",
               with.later_evaluations, n_with, n_without, (with.x - without.x).cwiseAbs().maxCoeff());
