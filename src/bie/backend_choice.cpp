@@ -59,4 +59,13 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
   return b;
 }
 
+bool double_layer_set_up_direct(BackendRequest requested, FarFieldBackend chosen, Eigen::Index n_sources, Eigen::Index n_targets,
+                                double tolerance, std::string* reason) {
+  if (requested != BackendRequest::Auto || chosen != FarFieldBackend::Fmm) return false;
+  const double c = kDirectSetUpCrossoverFactor * static_cast<double>(fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance));
+  const bool direct = static_cast<double>(n_sources) * static_cast<double>(n_targets) < c * c;
+  if (direct && reason) *reason += fmt::format("; its set-up pass (four densities) direct, below {:.0f} points", c);
+  return direct;
+}
+
 }  // namespace capsflow

@@ -64,6 +64,7 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
       fmm_inexact_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fi);
       if (fmm_inexact_->order() >= fmm_->order()) fmm_inexact_.reset();  // no cheaper order to gain
     }
+    direct_set_up_ = double_layer_set_up_direct(opt.backend, backend_, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   }
   const size_t m = static_cast<size_t>(tri_.rows()), ns = source_slots_.size();
   slot_y_.resize(9 * m), slot_n_.resize(9 * m);
@@ -128,6 +129,7 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
   Stopwatch clock, total;
   x_ = x;
   inexact_fmm_ready_ = false;  // its tree is set up on the first inexact step of this surface
+  fmm_ready_ = false;          // likewise the full-order FMM's, unless the set-up pass uses it
   surface_.update(x, threads_);
   const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
   const Eigen::Index m = tri_.rows(), ns = far_field_sources();
@@ -163,10 +165,11 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
   const size_t n = static_cast<size_t>(n_nodes_);
   unit_far_.resize(6 * n);
   if (u) fill_far_densities(*u);
-  if (fmm_) {
+  if (fmm_ && !direct_set_up_) {
     // The FMM of the three unit constants (f = e_k, n = ñ), and of u, in one call; T_ijk ñ_k is
     // symmetric in i, j.
     fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
+    fmm_ready_ = true;
     const int sets = u ? 4 : 3;
     std::vector<double> dens(6 * static_cast<size_t>(sets * ns)), out(3 * static_cast<size_t>(sets) * n);
     for (Eigen::Index s = 0; s < ns; ++s)
@@ -354,6 +357,8 @@ void DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
     fmm_inexact_->evaluate(density_.data(), out.data());
     ++inexact_applications_;
   } else if (fmm_) {
+    if (!fmm_ready_) fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), static_cast<std::size_t>(n_nodes_));
+    fmm_ready_ = true;
     fmm_->evaluate(density_.data(), out.data());
   } else if (fmm::kMixedPrecisionDirectSum && allowed_error >= kMixedPrecisionAllowedError) {
     fmm::direct_sum_mixed<fmm::Stresslet>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(),

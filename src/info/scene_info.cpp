@@ -69,6 +69,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     const FarFieldBackend dl_backend =
         choose_backend(scene.fluid.backend, FarFieldKernel::DoubleLayer, dl.far_field_sources(), mesh.num_nodes(),
                        scene.fluid.tolerance, &dl_why);
+    double_layer_set_up_direct(scene.fluid.backend, dl_backend, dl.far_field_sources(), mesh.num_nodes(), scene.fluid.tolerance, &dl_why);
     const double lambda = scene.fluid.viscosity_ratio;
     run["viscosity_ratio"] = {{"lambda", lambda}, {"kappa", (1 - lambda) / (1 + lambda)},
                               {"near_field_mb", dl.near_field_megabytes()}, {"max_gmres", scene.fluid.max_gmres},

@@ -299,6 +299,38 @@ TEST(DoubleLayerSpheroid, SetUpWithItsFirstApplicationEqualsSetUpThenApply) {
   }
 }
 
+// "auto" above the stresslet FMM's crossover but below kDirectSetUpCrossoverFactor times it (level
+// 5, tolerance 1e-3: sqrt(30 720 × 10 242) = 17 740 against 9 300): the FMM back end, whose set-up
+// pass sums directly and whose applications set the FMM up on first use. Against the forced direct
+// operator on the same surface, then again after the surface moves (the FMM must follow it).
+TEST(DoubleLayerSpheroid, DirectSetUpPassWithFmmApplicationsMatchesTheDirectOperator) {
+  const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 5);
+  Points x = spheroid_nodes(m);
+  const Points u = field_without_symmetry(x);
+  SingleLayerOptions opt;
+  opt.tolerance = 1e-3;
+  DoubleLayer A(m.triangles, m.num_nodes(), opt);
+  opt.backend = BackendRequest::Direct;
+  DoubleLayer D(m.triangles, m.num_nodes(), opt);
+  ASSERT_EQ(A.backend(), FarFieldBackend::Fmm) << A.backend_reason();
+  EXPECT_NE(A.backend_reason().find("set-up pass"), std::string::npos) << A.backend_reason();
+  for (int move = 0; move < 2; ++move) {
+    if (move == 1) x.col(0) *= 1.1;  // a new surface
+    Points Au, Au2, Du;
+    A.set_surface(x, &u, &Au);
+    A.apply(u, Au2);
+    D.set_surface(x);
+    D.apply(u, Du);
+    const double scale = Du.cwiseAbs().maxCoeff();
+    // The set-up pass and its first application: the direct pairs in another grouping, round-off
+    // only (~1e-15 relative; 1e-12 as in SetUpWithItsFirstApplicationEqualsSetUpThenApply).
+    EXPECT_LT((Au - Du).cwiseAbs().maxCoeff(), 1e-12 * scale) << "surface " << move;
+    // An FMM application at 0.25 × 1e-3: relative L2 error within that; 1e-3 leaves the 4× margin
+    // of the tolerance (a stale tree from the first surface errs by O(10 %)).
+    EXPECT_LT((Au2 - Du).norm(), 1e-3 * Du.norm()) << "surface " << move;
+  }
+}
+
 // An inexact application (allowed_error ≥ 1e-5: an inexact Krylov step of the viscosity-ratio
 // solve) against the exact one at the levels where the direct far field is chosen, for a smooth
 // field and a random one (a Krylov vector need not be smooth). Single-precision pairs where the

@@ -105,6 +105,8 @@ class DoubleLayer {
   std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_;  // backend Fmm: set up once per surface
   std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_inexact_;  // a lower order for inexact steps (backend Fmm)
   bool inexact_fmm_ready_ = false;                  // fmm_inexact_ set up on the current surface
+  bool fmm_ready_ = false;                          // fmm_ set up on the current surface
+  bool direct_set_up_ = false;  // backend Fmm, "auto": the set-up's four-density pass sums directly
   Points x_;                          // the nodes of the last set_surface() (far-field targets)
   // Per slot 3e + k (element e's far-field point k): position (that of its source, so that the near
   // field subtracts exactly what the far field added) and weighted normal ñ = w n = N/6.
