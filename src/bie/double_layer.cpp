@@ -165,7 +165,10 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
   const size_t n = static_cast<size_t>(n_nodes_);
   unit_far_.resize(6 * n);
   if (u) fill_far_densities(*u);
-  if (fmm_ && !direct_set_up_) {
+  // A surface whose far field is verified takes the FMM pass even where the set-up sums directly:
+  // the check is of the FMM (set-up, operators, order) that every iteration on it uses.
+  const bool verify_now = opt_.verify_every > 0 && setups_ % opt_.verify_every == 0;
+  if (fmm_ && (!direct_set_up_ || verify_now)) {
     // The FMM of the three unit constants (f = e_k, n = ñ), and of u, in one call; T_ijk ñ_k is
     // symmetric in i, j.
     fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
@@ -202,7 +205,7 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
                                                    unit_far_.data(), threads_);
   }
   clock.lap(times_, Phase::BieFar);
-  if (opt_.verify_every > 0 && setups_ % opt_.verify_every == 0) {
+  if (verify_now) {
     // Full double precision and the r = 0 mask: not the one-Newton pass (or the FMM) it checks.
     // D̃[1], and the first application's far field D̃[u] when it came from the same pass (Du holds
     // only the far field here); the check reports the worse of the two.
