@@ -161,8 +161,8 @@ int main(int argc, char** argv) {
   const MembraneLaw law = make_law(LawKind::NeoHookean, 1.0);
   MembraneWall membrane(m.X, m.T, law);
   Points Rs;
-  report("membrane_colour (membrane forces, per element)", kParallelMembraneColour,
-         serial_seconds(reps, [&] { membrane.forces(x, Rs); }) / ne, team, team, barrier, threads, ne);
+  report("membrane_pass (membrane forces, per element)", kParallelMembranePass,
+         serial_seconds(reps, [&] { membrane.forces(x, Rs); }) / ne, one_barrier, team, barrier, threads, ne);
 
   // GSMB: converge the rotations at x first; a repeated call then starts converged (no Newton
   // step), so its time is the element passes and the nodal loops around them.

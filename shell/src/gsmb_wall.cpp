@@ -73,24 +73,6 @@ void GsmbWall::init(const Points& X, const Points& D) {
       for (int p = topo_.adj_ptr[i]; p < topo_.adj_ptr[i + 1]; ++p)
         for (int l = 0; l < 2; ++l) trip.emplace_back(2 * i + k, 2 * topo_.adj[p] + l, 0.0);
   }
-  // each node's incident elements in the order of their colours (evaluate's summation order)
-  std::vector<int> colour(topo_.n_elems);
-  for (size_t c = 0; c < topo_.colors.size(); ++c)
-    for (const int e : topo_.colors[c]) colour[e] = static_cast<int>(c);
-  gather_elem_.resize(topo_.inc_elem.size());
-  gather_local_.resize(topo_.inc_elem.size());
-  std::vector<int> order;
-  for (int i = 0; i < n; ++i) {
-    const int p0 = topo_.inc_ptr[i], p1 = topo_.inc_ptr[i + 1];
-    order.resize(p1 - p0);
-    for (int k = 0; k < p1 - p0; ++k) order[k] = p0 + k;
-    std::sort(order.begin(), order.end(),
-              [&](int u, int v) { return colour[topo_.inc_elem[u]] < colour[topo_.inc_elem[v]]; });
-    for (int k = 0; k < p1 - p0; ++k) {
-      gather_elem_[p0 + k] = topo_.inc_elem[order[k]];
-      gather_local_[p0 + k] = topo_.inc_local[order[k]];
-    }
-  }
   K_.resize(2 * n, 2 * n);
   K_.setFromTriplets(trip.begin(), trip.end());
   K_.makeCompressed();
@@ -208,7 +190,7 @@ double GsmbWall::pass(const Points& x, Prologue prologue, bool want_K, bool want
       double acc[6] = {0, 0, 0, 0, 0, 0};
       const int p0 = topo_.inc_ptr[i], p1 = topo_.inc_ptr[i + 1];
       for (int p = p0; p < p1; ++p) {
-        const double* f = eout_[gather_elem_[p]].f[gather_local_[p]];
+        const double* f = eout_[topo_.inc_elem_by_colour[p]].f[topo_.inc_local_by_colour[p]];
         if (want_fx)
           for (int c = 0; c < 3; ++c) acc[c] += f[c];
         for (int c = 3; c < 6; ++c) acc[c] += f[c];
@@ -221,7 +203,7 @@ double GsmbWall::pass(const Points& x, Prologue prologue, bool want_K, bool want
         double* row0 = Kv + row_base_[i];
         std::fill(row0, row0 + 2 * row_len2_[i], 0.0);
         for (int p = p0; p < p1; ++p) {
-          const int e = gather_elem_[p], a = gather_local_[p];
+          const int e = topo_.inc_elem_by_colour[p], a = topo_.inc_local_by_colour[p];
           const auto& pp = topo_.pair_pos[e];
           const ElementOut& out = eout_[e];
           for (int b = 0; b < 3; ++b) {

@@ -1,4 +1,7 @@
 #include "capsflow/shell/wall.hpp"
+
+#include <omp.h>
+
 #include "capsflow/shell/parallel.hpp"
 #include "capsflow/shell/parallel_thresholds.hpp"
 
@@ -20,16 +23,27 @@ void MembraneWall::forces(const Points& x, Points& R, WallStats* stats) {
   if (x.rows() != topo_.n_nodes) throw std::invalid_argument("MembraneWall: x has the wrong number of rows");
   if (&R == &x) throw std::invalid_argument("MembraneWall::forces: R_s must not alias x");
   if (R.rows() != x.rows()) R.resize(x.rows(), 3);
-  R.setZero();
-  for (const auto& col : topo_.colors) {
-    const int ne = static_cast<int>(col.size());
-#pragma omp parallel for schedule(static) if (ne > kParallelMembraneColour)
-    for (int k = 0; k < ne; ++k) {
-      const MembraneRef& m = ref_[col[k]];
+  // One team, one barrier: each element's nodal forces to its own record, then each node sums
+  // its elements' records in colour order (Topology::inc_elem_by_colour) — the order of the
+  // former colour-by-colour pass, so the same bits for any thread count.
+  const int ne = topo_.n_elems, n = topo_.n_nodes;
+  fe_.resize(ne);
+  par::TeamBarrier barrier;
+#pragma omp parallel if (ne > kParallelMembranePass)
+  {
+#pragma omp for schedule(static) nowait
+    for (int e = 0; e < ne; ++e) {
+      const MembraneRef& m = ref_[e];
       const Vec3 xe[3] = {x.row(m.n[0]), x.row(m.n[1]), x.row(m.n[2])};
-      Vec3 f[3];
-      membrane_element(m, law_, xe, f, false);
-      for (int a = 0; a < 3; ++a) R.row(m.n[a]) += f[a].transpose();
+      membrane_element(m, law_, xe, fe_[e].f, false);
+    }
+    barrier.wait(omp_get_num_threads());
+#pragma omp for schedule(static)
+    for (int i = 0; i < n; ++i) {
+      Vec3 s = Vec3::Zero();
+      for (int p = topo_.inc_ptr[i]; p < topo_.inc_ptr[i + 1]; ++p)
+        s += fe_[topo_.inc_elem_by_colour[p]].f[topo_.inc_local_by_colour[p]];
+      R.row(i) = s.transpose();
     }
   }
   if (stats) *stats = WallStats{};

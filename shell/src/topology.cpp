@@ -76,6 +76,21 @@ Topology::Topology(const Triangles& T, Eigen::Index nn) {
   }
   colors.assign(ncol, {});
   for (int e = 0; e < n_elems; ++e) colors[color[e]].push_back(e);
+  // each node's incidence ordered by colour (an element has one colour; no two elements of a
+  // colour share a node, so the order is strict)
+  inc_elem_by_colour.resize(inc_elem.size());
+  inc_local_by_colour.resize(inc_elem.size());
+  std::vector<int> order;
+  for (int i = 0; i < n_nodes; ++i) {
+    const int p0 = inc_ptr[i], p1 = inc_ptr[i + 1];
+    order.resize(p1 - p0);
+    for (int k = 0; k < p1 - p0; ++k) order[k] = p0 + k;
+    std::sort(order.begin(), order.end(), [&](int u, int v) { return color[inc_elem[u]] < color[inc_elem[v]]; });
+    for (int k = 0; k < p1 - p0; ++k) {
+      inc_elem_by_colour[p0 + k] = inc_elem[order[k]];
+      inc_local_by_colour[p0 + k] = inc_local[order[k]];
+    }
+  }
 }
 
 }  // namespace capsflow::shell

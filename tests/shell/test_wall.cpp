@@ -138,6 +138,37 @@ TEST(Wall, GlobalInvariantsOfTheNodalForces) {
   EXPECT_LT(Q.norm(), 1e-12 * sabs);  // 1^T M q = sum R = 0 up to the CG tolerance 1e-12
 }
 
+TEST(Wall, MembraneForcesAreTheColourOrderedSumForAnyThreadCount) {
+  // 20 480 elements: above kParallelMembranePass, so 2 threads run the one-team pass. Reference:
+  // the elements added into the nodes colour by colour, in element order within a colour (the
+  // serial assembly the pass replaces); each node then sums in the same order, so the forces must
+  // agree bit for bit (tolerance 0: the property under test is the summation order).
+  Mesh m = icosphere(5);
+  const Points x = deform(m.X, 0.8, 7);
+  const MembraneLaw law = make_law("sk", 1.0, 0.5, 1.0);
+  MembraneWall w(m.X, m.T, law);
+  const Topology& topo = w.topology();
+  Points ref = Points::Zero(x.rows(), 3);
+  for (const auto& col : topo.colors)
+    for (const int e : col) {
+      const auto& t = topo.tri[e];
+      const Vec3 X[3] = {m.X.row(t[0]), m.X.row(t[1]), m.X.row(t[2])};
+      const MembraneRef R = make_membrane_ref(X, t);
+      const Vec3 xe[3] = {x.row(t[0]), x.row(t[1]), x.row(t[2])};
+      Vec3 f[3];
+      membrane_element(R, law, xe, f, false);
+      for (int a = 0; a < 3; ++a) ref.row(t[a]) += f[a].transpose();
+    }
+  const int nt = omp_get_max_threads();
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    Points R;
+    w.forces(x, R);
+    EXPECT_EQ((R - ref).cwiseAbs().maxCoeff(), 0.0) << threads << " threads";
+  }
+  omp_set_num_threads(nt);
+}
+
 TEST(Wall, DeterministicAcrossThreadCountsAndRestartable) {
   // 5 120 elements: above every team threshold of parallel_thresholds.hpp (element pass, both
   // PCGs, the mass assembly), so the 2-thread runs use every parallel path.

@@ -136,8 +136,6 @@ class GsmbWall : public Wall {
     double K[6][6];
   };
   std::vector<ElementOut> eout_;
-  // node i's incident elements (and i's local index in each) ordered by colour: [inc_ptr[i], inc_ptr[i+1])
-  std::vector<int> gather_elem_, gather_local_;
   SpMatR K_;
   std::vector<int> row_base_, row_len2_;  // K value index of node-row i: 4*adj_ptr[i], 2*deg(i)
   Eigen::VectorXd Rth_, dw_, kdiag_;

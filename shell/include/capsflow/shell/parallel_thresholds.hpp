@@ -23,9 +23,11 @@ inline constexpr int kParallelAreaElements = 4096;
 /// barrier assumed at most half of that gives a break-even near 330 elements; this is about twice
 /// that. An estimate until re-measured on a quiet machine (docs/shell.md §2.7).
 inline constexpr int kParallelGsmbPass = 768;
-/// Elements of one colour in the membrane-only force pass (was 512: a team per colour cost more
-/// than it saved below ~5 000 elements per colour, i.e. on every mesh up to ~40 000 elements).
-inline constexpr int kParallelMembraneColour = 4096;
+/// Elements of the membrane-only force pass, one team with one barrier (was a team per colour
+/// above 4096 elements per colour): ~18–21 ns per element against a team and a barrier (~50 µs +
+/// B) gives a break-even near 6 000 elements; this is about twice that. An estimate until
+/// re-measured (docs/shell.md §2.7).
+inline constexpr int kParallelMembranePass = 12288;
 /// Matrix rows of the stand-alone sparse product (spmv) and block rows of the PCG preconditioner
 /// set-up (was 4096; ~3 ns per row, break-even ~35 000 rows).
 inline constexpr int kParallelRows = 32768;

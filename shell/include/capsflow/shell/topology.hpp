@@ -25,6 +25,9 @@ struct Topology {
   /// relative to adj_ptr[node a]; index a*3+b.
   std::vector<std::array<int, 9>> pair_pos;
   std::vector<int> diag_pos;  ///< position of i in its own adjacency row (relative)
+  /// the incidence of node i ordered by the colour of the element, [inc_ptr[i], inc_ptr[i+1]):
+  /// the order in which a colour-by-colour pass adds the elements' contributions to node i
+  std::vector<int> inc_elem_by_colour, inc_local_by_colour;
   int nnz_nodes() const { return static_cast<int>(adj.size()); }
 };
 

@@ -67,6 +67,8 @@ class MembraneWall : public Wall {
   MembraneLaw law_;
   Topology topo_;
   std::vector<MembraneRef> ref_;
+  struct ElementForces { Vec3 f[3]; };  // one element's nodal forces (forces())
+  std::vector<ElementForces> fe_;
   mutable std::vector<double> partial_;
 };
 
