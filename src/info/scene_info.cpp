@@ -53,6 +53,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   // curved element (docs/boundary-integral.md §4.2.1).
   SingleLayerOptions sl_options;
   sl_options.geometry = scene.fluid.geometry;
+  sl_options.far_rule = scene.fluid.far_rule;
   const Eigen::Index sources = far_field_source_count(sl_options, mesh.num_elements(), mesh_edges(mesh).rows());
   const FarFieldBackend b =
       choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer, sources, mesh.num_nodes(), scene.fluid.tolerance, &why);
@@ -63,6 +64,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     // The second-kind solve (docs/boundary-integral.md §4.8); its near-field lists depend on the geometry only.
     SingleLayerOptions dl_options;
     dl_options.geometry = scene.fluid.geometry;
+    dl_options.far_rule = scene.fluid.far_rule;
     dl_options.backend = BackendRequest::Direct;  // the near field's size only (no FMM set-up here)
     const DoubleLayer dl(mesh.triangles, mesh.num_nodes(), dl_options);
     std::string dl_why;  // the run's choice: by fluid.backend, or the stresslet FMM's crossover

@@ -13,6 +13,7 @@ SingleLayerOptions bie_options(const Scene& s, int threads) {
   o.backend = s.fluid.backend;
   o.tolerance = s.fluid.tolerance;
   o.geometry = s.fluid.geometry;
+  o.far_rule = s.fluid.far_rule;
   o.fmm_order = s.fluid.fmm_order;
   o.verify_every = s.fluid.verify_every;
   o.threads = threads;

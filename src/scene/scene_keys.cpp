@@ -247,6 +247,10 @@ const Section<FluidSpec>& fluid_keys() {
               "single-precision pairs"),
        choice("geometry", &FluidSpec::geometry, bie.geometry,
               "surface seen by the boundary integral (`docs/boundary-integral.md` §4.5)"),
+       choice("far_rule", &FluidSpec::far_rule, bie.far_rule,
+              "far-field sources (`docs/boundary-integral.md` §4.2.1): `\"auto\"` takes one per edge midpoint on flat facets "
+              "(3 per node) and three Gauss points per element on curved ones (6 per node); `\"gauss_points\"` on flat "
+              "facets is the far field before issue 23, kept to measure the edge-midpoint rule against it"),
        boolean("volume_correction", &FluidSpec::volume_correction, true,
                "remove the discrete net flux at every stage (`docs/time-integration.md` §5.3)"),
        integer("fmm_order", &FluidSpec::fmm_order, bie.fmm_order,

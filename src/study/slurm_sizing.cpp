@@ -28,6 +28,7 @@ JobSize size_job(const Variant& v, const CostModel& cost, int threads, long prev
   const MeshCounts counts = expected_counts(v.scene.mesh.base, v.level);
   SingleLayerOptions bie;
   bie.geometry = v.scene.fluid.geometry;
+  bie.far_rule = v.scene.fluid.far_rule;
   const bool fmm = choose_backend(v.scene.fluid.backend, FarFieldKernel::SingleLayer,
                                   far_field_source_count(bie, counts.elements, counts.edges), counts.nodes,
                                   v.scene.fluid.tolerance, nullptr) == FarFieldBackend::Fmm;

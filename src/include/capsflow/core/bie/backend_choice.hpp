@@ -2,7 +2,7 @@
 // The boundary integral's choices: which far-field back end each operator uses and why (the
 // scene's choice, or for "auto" a measured FMM/direct crossover: the single layer's own table
 // below, the double layer's the stresslet FMM's, fmm/calibration.hpp), and which surface it
-// integrates over.
+// integrates over and with which far-field rule.
 #include <cstddef>
 #include <string>
 
@@ -25,6 +25,12 @@ inline constexpr NameTable<SurfaceGeometry, 2> kSurfaceGeometryNames{
 constexpr const auto& name_table(BackendRequest) { return kBackendRequestNames; }
 constexpr const auto& name_table(FarFieldBackend) { return kFarFieldBackendNames; }
 constexpr const auto& name_table(SurfaceGeometry) { return kSurfaceGeometryNames; }
+// The far field's element rule (docs/boundary-integral.md §4.2.1); Auto: edge midpoints on flat
+// facets, Gauss points on curved elements.
+enum class FarFieldRule { Auto, EdgeMidpoints, GaussPoints };
+inline constexpr NameTable<FarFieldRule, 3> kFarFieldRuleNames{
+    {{FarFieldRule::Auto, "auto"}, {FarFieldRule::EdgeMidpoints, "edge_midpoints"}, {FarFieldRule::GaussPoints, "gauss_points"}}};
+constexpr const auto& name_table(FarFieldRule) { return kFarFieldRuleNames; }
 
 // Which operator's far field is summed: the single layer's Stokeslets (single_layer.hpp) or the
 // double layer's stresslets (double_layer.hpp).

@@ -39,8 +39,6 @@ class Fmm;
 }  // namespace fmm
 struct OffSurfaceReport;
 
-// The far field's element rule (docs/boundary-integral.md §4.2.1); Auto: by the geometry.
-enum class FarFieldRule { Auto, EdgeMidpoints, GaussPoints };
 
 struct SingleLayerOptions {
   BackendRequest backend = BackendRequest::Auto;

@@ -77,6 +77,7 @@ struct FluidSpec {
   BackendRequest backend;
   double tolerance;              // far-field relative accuracy (FMM order; direct: single-precision pairs from 1e-5)
   SurfaceGeometry geometry;      // surface seen by the boundary integral (bie/single_layer.hpp)
+  FarFieldRule far_rule;         // far-field sources: auto (by geometry), edge midpoints or 3 Gauss points per element
   bool volume_correction;        // remove the mean normal velocity (discrete flux error) each stage
   int fmm_order;                 // > 0 forces the FMM order (4..14) instead of the tolerance's
   int verify_every;              // > 0: every N evaluations also sum the far field directly and compare
