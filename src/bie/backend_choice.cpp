@@ -11,6 +11,11 @@ namespace {
 // Single-precision pairs (max relative error ~5e-7, fmm/direct_sum_mixed.hpp) leave a 20x margin
 // from this tolerance on.
 constexpr double kMixedPrecisionTolerance = 1e-5;
+// The stresslet FMM's crossover at the FMM tolerance the double layer asks for.
+std::size_t stresslet_crossover(double tolerance) {
+  return fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance);
+}
+bool below_crossover(double n_src, double n_trg, double crossover) { return n_src * n_trg < crossover * crossover; }
 }  // namespace
 
 const SingleLayerCrossoverRow& single_layer_crossover(double tolerance) {
@@ -40,10 +45,10 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
       whose = row.measured ? "the single layer's measured FMM/direct crossover"
                            : "the single layer's FMM/direct crossover (extrapolated: direct was faster at every measured size)";
     } else {
-      c = fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance);
+      c = stresslet_crossover(tolerance);
       whose = "the stresslet FMM's FMM/direct crossover (fmm/calibration.hpp)";
     }
-    const bool direct = static_cast<double>(n_src) * static_cast<double>(n_trg) < static_cast<double>(c) * static_cast<double>(c);
+    const bool direct = below_crossover(static_cast<double>(n_src), static_cast<double>(n_trg), static_cast<double>(c));
     b = direct ? FarFieldBackend::Direct : FarFieldBackend::Fmm;
     why = fmt::format("auto: {} sources × {} targets is {} {} at tolerance {:g} ({} points)", n_src, n_trg,
                       direct ? "below" : "above", whose, tolerance, c);
@@ -62,8 +67,8 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
 bool double_layer_set_up_direct(BackendRequest requested, FarFieldBackend chosen, Eigen::Index n_sources, Eigen::Index n_targets,
                                 double tolerance, std::string* reason) {
   if (requested != BackendRequest::Auto || chosen != FarFieldBackend::Fmm) return false;
-  const double c = kDirectSetUpCrossoverFactor * static_cast<double>(fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance));
-  const bool direct = static_cast<double>(n_sources) * static_cast<double>(n_targets) < c * c;
+  const double c = kDirectSetUpCrossoverFactor * static_cast<double>(stresslet_crossover(tolerance));
+  const bool direct = below_crossover(static_cast<double>(n_sources), static_cast<double>(n_targets), c);
   if (direct && reason) *reason += fmt::format("; its set-up pass (four densities) direct, below {:.0f} points", c);
   return direct;
 }

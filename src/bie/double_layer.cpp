@@ -289,10 +289,11 @@ void DoubleLayer::assemble_near_field(const Points& x) {
       }
     };
     const IndexRange touching = lists_.touching(i), ring = lists_.ring(i), band = lists_.band(i);
-    // A flat touching element's far-rule points lie in its plane through x_i, where T(r)·ñ = 0: the
-    // far field added nothing there, so there is nothing to subtract (§4.7.2).
-    if (surface_.curved()) add_elements(touching, slot, nullptr, nullptr, 0, nullptr);
-    if (surface_.curved()) {  // the touching elements' exact singular integrals
+    // A flat touching element contributes nothing, and its far-rule points lie in its plane through
+    // x_i, where T(r)·ñ = 0: nothing to subtract either (§4.7.2). A curved one: the far rule
+    // subtracted, then its exact singular integral.
+    if (surface_.curved()) {
+      add_elements(touching, slot, nullptr, nullptr, 0, nullptr);
       for (size_t j = 0; j < touching.size(); ++j) {
         const int e = touching.first[j];
         const int k0 = tri_(e, 0) == i ? 0 : (tri_(e, 1) == i ? 1 : 2);

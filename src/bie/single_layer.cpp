@@ -34,16 +34,16 @@ int near_ring_layers(const SingleLayerOptions& o) {
   return o.near_ring_layers > 0 ? o.near_ring_layers : (o.geometry == SurfaceGeometry::Curved ? 2 : 1);
 }
 
-int corrected_layers(const SingleLayerOptions& o) {
+namespace {
+int corrected_layers_or(const SingleLayerOptions& o, int automatic) {
   // A band would integrate with the Gauss-point far field's own rule: none then.
   if (far_field_rule(o) == FarFieldRule::GaussPoints) return near_ring_layers(o);
-  return std::max(near_ring_layers(o), o.corrected_layers > 0 ? o.corrected_layers : kAutoCorrectedLayers);
+  return std::max(near_ring_layers(o), o.corrected_layers > 0 ? o.corrected_layers : automatic);
 }
+}  // namespace
 
-int double_layer_corrected_layers(const SingleLayerOptions& o) {
-  if (far_field_rule(o) == FarFieldRule::GaussPoints) return near_ring_layers(o);
-  return std::max(near_ring_layers(o), o.corrected_layers > 0 ? o.corrected_layers : kAutoDoubleLayerCorrectedLayers);
-}
+int corrected_layers(const SingleLayerOptions& o) { return corrected_layers_or(o, kAutoCorrectedLayers); }
+int double_layer_corrected_layers(const SingleLayerOptions& o) { return corrected_layers_or(o, kAutoDoubleLayerCorrectedLayers); }
 
 SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt)
     : tri_(triangles),

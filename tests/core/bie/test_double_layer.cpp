@@ -326,7 +326,7 @@ TEST(DoubleLayerSpheroid, DirectSetUpPassWithFmmApplicationsMatchesTheDirectOper
     // only (~1e-15 relative; 1e-12 as in SetUpWithItsFirstApplicationEqualsSetUpThenApply).
     EXPECT_LT((Au - Du).cwiseAbs().maxCoeff(), 1e-12 * scale) << "surface " << move;
     // An FMM application at 0.25 × 1e-3: relative L2 error within that; 1e-3 leaves the 4× margin
-    // of the tolerance (a stale tree from the first surface errs by O(10 %)).
+    // of the tolerance. An FMM still set up on the first surface would sum the wrong geometry.
     EXPECT_LT((Au2 - Du).norm(), 1e-3 * Du.norm()) << "surface " << move;
   }
 }
