@@ -81,7 +81,7 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
 // constants of D̃[1] and the first application, four densities for the FMM — sums directly
 // instead (double_layer.cpp: the pair geometry is shared by all four, 9 outputs per pair), while
 // the Krylov steps keep the FMM. Measured at 81 920 elements (sqrt(sources × targets) = 70 950,
-// p = 11, CPU s): direct 3.4 against the FMM's 5.3, so the direct pass wins up to ~1.5× that size,
+// p = 11, CPU s on a loaded machine, perf/bie/double_layer_bench --levels 6): direct 3.4 against the FMM's 5.3, so the direct pass wins up to ~1.5× that size,
 // ~3.8× the one-density crossover; kDirectSetUpCrossoverFactor stays below that. `reason` gets a
 // clause appended when it does.
 inline constexpr double kDirectSetUpCrossoverFactor = 3.0;
