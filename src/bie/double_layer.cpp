@@ -56,6 +56,7 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     fmm::FmmOptions fo;
     fo.tolerance = kFmmToleranceMargin * opt.tolerance;
     fo.order = opt.fmm_order;
+    fo.leaf_size = opt.fmm_leaf_size;
     fo.threads = threads_;
     fmm_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fo);
     if (opt.fmm_order <= 0 && kInexactFmmTolerance > fo.tolerance) {

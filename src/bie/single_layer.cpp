@@ -67,6 +67,7 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     // relative to max |v| at every node (max norm), so ask the FMM for a safety margin.
     fo.tolerance = kFmmToleranceMargin * opt.tolerance;
     fo.order = opt.fmm_order;
+    fo.leaf_size = opt.fmm_leaf_size;
     fo.threads = threads_;
     fmm_ = std::make_unique<fmm::Fmm<fmm::Stokeslet>>(fo);
   }

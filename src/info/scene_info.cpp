@@ -16,6 +16,7 @@
 #include "capsflow/core/mesh/topology.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
+#include "capsflow/core/scene/boundary_integral_options.hpp"
 #include "capsflow/core/stepping/heun.hpp"
 #include "capsflow/core/stepping/rkc.hpp"
 #include "capsflow/core/stepping/stability.hpp"
@@ -51,9 +52,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   std::string why;
   // The single layer's far-field sources: the edge midpoints on flat facets, 3 Gauss points per
   // curved element (docs/boundary-integral.md §4.2.1).
-  SingleLayerOptions sl_options;
-  sl_options.geometry = scene.fluid.geometry;
-  sl_options.far_rule = scene.fluid.far_rule;
+  const SingleLayerOptions sl_options = boundary_integral_options(scene);
   const Eigen::Index sources = far_field_source_count(sl_options, mesh.num_elements(), mesh_edges(mesh).rows());
   const FarFieldBackend b =
       choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer, sources, mesh.num_nodes(), scene.fluid.tolerance, &why);
@@ -62,9 +61,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   run["fmm_order_warning"] = unused_fmm_order_note(scene, b);
   if (scene.fluid.viscosity_ratio != 1.0) {
     // The second-kind solve (docs/boundary-integral.md §4.8); its near-field lists depend on the geometry only.
-    SingleLayerOptions dl_options;
-    dl_options.geometry = scene.fluid.geometry;
-    dl_options.far_rule = scene.fluid.far_rule;
+    SingleLayerOptions dl_options = boundary_integral_options(scene);
     dl_options.backend = BackendRequest::Direct;  // the near field's size only (no FMM set-up here)
     const DoubleLayer dl(mesh.triangles, mesh.num_nodes(), dl_options);
     std::string dl_why;  // the run's choice: by fluid.backend, or the stresslet FMM's crossover

@@ -4,22 +4,9 @@
 
 #include "capsflow/core/rhs/volume_constraint.hpp"
 #include "capsflow/core/rhs/wall_factory.hpp"
+#include "capsflow/core/scene/boundary_integral_options.hpp"
 
 namespace capsflow {
-
-namespace {
-SingleLayerOptions bie_options(const Scene& s, int threads) {
-  SingleLayerOptions o;
-  o.backend = s.fluid.backend;
-  o.tolerance = s.fluid.tolerance;
-  o.geometry = s.fluid.geometry;
-  o.far_rule = s.fluid.far_rule;
-  o.fmm_order = s.fluid.fmm_order;
-  o.verify_every = s.fluid.verify_every;
-  o.threads = threads;
-  return o;
-}
-}  // namespace
 
 CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& reference, int threads,
                                  std::unique_ptr<shell::Wall> wall)
@@ -28,13 +15,13 @@ CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& referenc
       tri_(reference.triangles),
       wall_(wall ? std::move(wall) : make_wall(scene, reference)),
       mass_(reference.triangles, reference.num_nodes()),
-      bie_(reference.triangles, reference.num_nodes(), bie_options(scene, threads)) {
+      bie_(reference.triangles, reference.num_nodes(), boundary_integral_options(scene, threads)) {
   if (scene.fluid.viscosity_ratio != 1.0) {
     GmresOptions go;
     go.tolerance = scene.fluid.tolerance;  // the far field's promise, relative to the velocity (§4.8.3)
     go.max_iterations = scene.fluid.max_gmres;
     viscosity_ = std::make_unique<ViscosityRatioSolver>(reference.triangles, reference.num_nodes(),
-                                                        scene.fluid.viscosity_ratio, bie_options(scene, threads), go);
+                                                        scene.fluid.viscosity_ratio, boundary_integral_options(scene, threads), go);
   }
 }
 

@@ -258,6 +258,11 @@ const Section<FluidSpec>& fluid_keys() {
                "0: the FMM order follows from `tolerance` (`fmm/calibration.hpp`); otherwise that order is forced (to "
                "measure accuracy against cost, or to show that `verify_every` catches a too-low order); the direct sum has "
                "no order: with it a forced order is unused, and `info` and the run say so"),
+       integer("fmm_leaf_size", &FluidSpec::fmm_leaf_size, bie.fmm_leaf_size,
+               closed(16, 1000000).or_value(0).because("0: the calibrated leaf; fewer than 16 points per leaf only cost"),
+               "0: the FMM's points per leaf follow from its order (`fmm/calibration.hpp`, measured at the boundary "
+               "integral's sizes); otherwise that many: a box is split while it holds more sources or more targets "
+               "(to tune the FMM on another machine, or to force a deep tree on a small mesh); unused by the direct sum"),
        // 1e6 evaluations between checks is as good as none (and keeps the count an int).
        integer("verify_every", &FluidSpec::verify_every, bie.verify_every,
                closed(0, 1000000).because("right-hand-side evaluations between direct checks; 0 = off"),

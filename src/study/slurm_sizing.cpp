@@ -6,6 +6,7 @@
 #include "capsflow/core/bie/backend_choice.hpp"
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/mesh/generation.hpp"
+#include "capsflow/core/scene/boundary_integral_options.hpp"
 
 namespace capsflow::study {
 
@@ -26,9 +27,7 @@ JobSize size_job(const Variant& v, const CostModel& cost, int threads, long prev
   s.minutes = std::max(kMinMinutes, static_cast<long>(std::ceil(kTimeMargin * s.predicted_seconds / 60.0 - 1e-9)));
   s.minutes = std::max(s.minutes, 2 * previous_minutes);
   const MeshCounts counts = expected_counts(v.scene.mesh.base, v.level);
-  SingleLayerOptions bie;
-  bie.geometry = v.scene.fluid.geometry;
-  bie.far_rule = v.scene.fluid.far_rule;
+  const SingleLayerOptions bie = boundary_integral_options(v.scene);
   const bool fmm = choose_backend(v.scene.fluid.backend, FarFieldKernel::SingleLayer,
                                   far_field_source_count(bie, counts.elements, counts.edges), counts.nodes,
                                   v.scene.fluid.tolerance, nullptr) == FarFieldBackend::Fmm;

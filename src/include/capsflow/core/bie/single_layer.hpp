@@ -60,6 +60,7 @@ struct SingleLayerOptions {
                                  // with the Gauss-point far field there is no band (the ring's layers)
   int threads = 0;               // 0 = OpenMP default (set per parallel region, never globally)
   int fmm_order = 0;             // > 0 forces the FMM order instead of the one the tolerance calls for
+  int fmm_leaf_size = 0;         // > 0 forces the FMM's points per leaf instead of the calibrated one
   // > 0: on every verify_every-th apply() (the first one included) the far field is summed again
   // directly, in full double precision, on the same sources and targets (far_field_checks()); the
   // double layer checks its far field of the unit constants on every verify_every-th surface

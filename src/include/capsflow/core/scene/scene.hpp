@@ -80,6 +80,7 @@ struct FluidSpec {
   FarFieldRule far_rule;         // far-field sources: auto (by geometry), edge midpoints or 3 Gauss points per element
   bool volume_correction;        // remove the mean normal velocity (discrete flux error) each stage
   int fmm_order;                 // > 0 forces the FMM order (4..14) instead of the tolerance's
+  int fmm_leaf_size;             // > 0 forces the FMM's points per leaf instead of the calibrated one
   int verify_every;              // > 0: every N evaluations also sum the far field directly and compare
 };
 
