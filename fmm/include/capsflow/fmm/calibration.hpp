@@ -29,22 +29,29 @@ struct CalibrationRow {
 //   worst:  1.14e-3  1.99e-3  4.4e-5   2.3e-6   7.7e-7   5.9e-8   1.1e-8   3.4e-9   7.3e-10  2.8e-10  7.5e-11
 // (odd p = 5 is worse than p = 4). Before the factored pseudo-inverses, p >= 10 stalled at
 // 1.5e-8–3.7e-8 (perf/fmm/results/order_sweep_before.jsonl).
-// leaf_size: best of {300..800} at N = 1e5 and 1e6 on the sphere for p <= 10; p >= 11 reuse
-// 600, NOT tuned. crossover: N at which setup + one evaluation beats direct_sum (sphere,
+// leaf_size: re-measured in session 12 (perf/fmm/leaf_bie.sh, results/leaf_bie_stokeslet.jsonl,
+// quiet machine, 2 threads, medians of 5): random points on the sphere at the boundary integral's
+// sizes (3 sources per target: 30 720 × 10 242, 122 880 × 40 962, 491 520 × 163 842) and sources =
+// targets at N = 1e5, leaves 200–1 600; the leaf whose worst loss against the best leaf of each case
+// is smallest: 400 at p = 4 (1.16), 1 000 at p = 6 (1.08), 1 300 at p = 7–12 (1.04–1.22; p = 11, 13,
+// 14 not measured, same). The session-2 leaves (200–600, tuned when M2L was slower) cost 1.5–3.3×
+// at these sizes: at 600 the trees are one level deeper (e.g. 122 880 × 40 962 at p = 9: 0.37 s
+// against 0.20 s). crossover: N at which setup + one evaluation beats direct_sum (sphere,
 // sources = targets, 2 threads, quiet machine, perf/fmm/RESULTS.md: 5.2e3 at p = 6, 8.3e3 at
 // p = 8, 1.2e4 at p = 10), rounded up; p = 11..14 are EXTRAPOLATED (+15–20 % per order, not
-// measured). Sources != targets use the geometric mean sqrt(n_src·n_trg).
+// measured; all measured with the session-2 leaves, so with today's faster FMM they err towards
+// direct). Sources != targets use the geometric mean sqrt(n_src·n_trg).
 inline constexpr CalibrationRow kCalibration[] = {
-    {2e-3, 4, 200, 4000},
-    {1e-4, 6, 300, 6000},
-    {1e-5, 7, 400, 7000},
-    {2e-6, 8, 500, 9000},  // not 1e-6: a clustered case reached 1.08e-6 at p = 8 (multi-density test)
-    {1e-7, 9, 600, 11000},
-    {2e-8, 10, 600, 13000},
-    {4e-9, 11, 600, 15000},
-    {1e-9, 12, 600, 18000},
-    {3e-10, 13, 600, 21000},
-    {0.0, 14, 600, 25000},
+    {2e-3, 4, 400, 4000},
+    {1e-4, 6, 1000, 6000},
+    {1e-5, 7, 1300, 7000},
+    {2e-6, 8, 1300, 9000},  // not 1e-6: a clustered case reached 1.08e-6 at p = 8 (multi-density test)
+    {1e-7, 9, 1300, 11000},
+    {2e-8, 10, 1300, 13000},
+    {4e-9, 11, 1300, 15000},
+    {1e-9, 12, 1300, 18000},
+    {3e-10, 13, 1300, 21000},
+    {0.0, 14, 1300, 25000},
 };
 
 // The stresslet (double layer, stresslet.hpp), calibrated the same way over 20 cases: the

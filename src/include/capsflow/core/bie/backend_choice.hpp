@@ -51,17 +51,18 @@ struct SingleLayerCrossoverRow {
   std::size_t crossover;  // sqrt(n_src·n_trg)
   bool measured;          // false: direct was faster at every measured size; the crossover is extrapolated
 };
-// 1e-3–1e-5: where the FMM's time (log-log between the measured sizes) meets direct's
-// (perf/bie/crossover.py: 16 324, 23 200, 28 146). From 1e-6 on direct was faster at every
-// measured size, up to sqrt(n_src·n_trg) = 28 400 (octahedron level 6): the crossover is above
-// that, and the rows are EXTRAPOLATED, not measured — the FMM's time continued log-log from the two
-// largest sizes (slope 0.29–0.44 in n_src·n_trg) meets direct's at ~31 000 (1e-6), ~30 600 (1e-7;
-// taken as 1e-6's, a higher order cannot be cheaper) and ~50 900 (1e-8 and tighter, rounded down).
-// The direct sum's single-precision pairs need AVX-512 (fmm::kMixedPrecisionDirectSum); without
-// them 1e-3–1e-5 sum in double (~1.6× the time per pair) and the true crossover is lower.
+// Where the FMM's time (log-log between the measured sizes) meets direct's (perf/bie/crossover.py),
+// re-measured in session 12 after the FMM's leaf sizes were re-calibrated (fmm/calibration.hpp):
+// 10 432, 14 138, 16 130, 15 805, 16 103, 23 951 at 1e-3 … 1e-8, rounded up (1e-6 to 1e-5's
+// 16 200: 2 % apart, within the repeats' spread, and a tighter tolerance never switches earlier). Every row is now
+// measured: the FMM wins at the largest size of the set (octahedron level 6, 28 400) at every
+// tolerance (before, with the session-2 leaves, direct won there from 1e-6 on and the rows were
+// extrapolated to 31 000–50 000). From 1e-6 on the direct sum pairs in double (~1.6× the time per
+// pair), which is why 1e-6 switches no later than 1e-5 although its FMM order is higher. The direct sum's single-precision pairs need AVX-512
+// (fmm::kMixedPrecisionDirectSum); without them 1e-3–1e-5 sum in double and the true crossover is lower.
 inline constexpr SingleLayerCrossoverRow kSingleLayerCrossover[] = {
-    {1e-3, 16300, true}, {1e-4, 23200, true}, {1e-5, 28100, true},
-    {1e-6, 31000, false}, {1e-7, 31000, false}, {0.0, 50000, false},
+    {1e-3, 10500, true}, {1e-4, 14200, true}, {1e-5, 16200, true},
+    {1e-6, 16200, true}, {1e-7, 16200, true}, {0.0, 24000, true},
 };
 const SingleLayerCrossoverRow& single_layer_crossover(double tolerance);
 
