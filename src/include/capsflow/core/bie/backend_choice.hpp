@@ -82,8 +82,10 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
 // constants of D̃[1] and the first application, four densities for the FMM — sums directly
 // instead (double_layer.cpp: the pair geometry is shared by all four, 9 outputs per pair), while
 // the Krylov steps keep the FMM. Measured at 81 920 elements (sqrt(sources × targets) = 70 950,
-// p = 11, CPU s on a loaded machine, perf/bie/double_layer_bench --levels 6): direct 3.4 against the FMM's 5.3, so the direct pass wins up to ~1.5× that size,
-// ~3.8× the one-density crossover; kDirectSetUpCrossoverFactor stays below that. `reason` gets a
+// p = 11, perf/bie/double_layer_bench --levels 6 --repeat 3 --threads 2 --backend direct|fmm): CPU s
+// 3.4 against the FMM's 5.3 on a loaded machine (session 11), 2.84 against 3.79 (wall 1.42 against
+// 1.91) on a quiet one (session 12), so the direct pass wins up to ~1.3–1.5× that size, 3.3–3.8×
+// the one-density crossover (28 900); kDirectSetUpCrossoverFactor stays below that. `reason` gets a
 // clause appended when it does.
 inline constexpr double kDirectSetUpCrossoverFactor = 3.0;
 bool double_layer_set_up_direct(BackendRequest requested, FarFieldBackend chosen, Eigen::Index n_sources, Eigen::Index n_targets,
