@@ -53,13 +53,14 @@ struct SingleLayerCrossoverRow {
 };
 // Where the FMM's time (log-log between the measured sizes) meets direct's (perf/bie/crossover.py),
 // re-measured in session 12 after the FMM's leaf sizes were re-calibrated (fmm/calibration.hpp):
-// 10 432, 14 138, 16 130, 15 805, 16 103, 23 951 at 1e-3 … 1e-8, rounded up (1e-6 to 1e-5's
-// 16 200: 2 % apart, within the repeats' spread, and a tighter tolerance never switches earlier). Every row is now
-// measured: the FMM wins at the largest size of the set (octahedron level 6, 28 400) at every
-// tolerance (before, with the session-2 leaves, direct won there from 1e-6 on and the rows were
+// 10 432, 14 138, 16 130, 15 805, 16 103, 23 951 at 1e-3 … 1e-8, rounded up; 1e-6 takes 1e-5's
+// 16 200 (2 % apart, within the repeats' spread: a tighter tolerance never switches earlier).
+// Every row is measured: the FMM wins at the largest size of the set (octahedron level 6, 28 400)
+// at every tolerance (with the session-2 leaves direct won there from 1e-6 on, and the rows were
 // extrapolated to 31 000–50 000). From 1e-6 on the direct sum pairs in double (~1.6× the time per
-// pair), which is why 1e-6 switches no later than 1e-5 although its FMM order is higher. The direct sum's single-precision pairs need AVX-512
-// (fmm::kMixedPrecisionDirectSum); without them 1e-3–1e-5 sum in double and the true crossover is lower.
+// pair), which is why 1e-6 switches no later than 1e-5 although its FMM order is higher. The
+// single-precision pairs need AVX-512 (fmm::kMixedPrecisionDirectSum); without them 1e-3–1e-5 sum
+// in double and the true crossover is lower.
 inline constexpr SingleLayerCrossoverRow kSingleLayerCrossover[] = {
     {1e-3, 10500, true}, {1e-4, 14200, true}, {1e-5, 16200, true},
     {1e-6, 16200, true}, {1e-7, 16200, true}, {0.0, 24000, true},
