@@ -24,7 +24,7 @@ SKIP = {"wall_seconds", "total_seconds", "seconds_per_evaluation", "seconds_per_
         "peak_rss_mb", "run_id", "version", "git", "git_hash", "command_line", "build", "threads"}
 # Integer counts that must match exactly (booleans and strings must match exactly too).
 EXACT = {"steps", "rhs_evaluations", "rejected_steps", "stages_max", "spectral_radius_evaluations",
-         "newton", "rotation_cg", "mass_cg", "rotation_fresh_starts", "elements", "nodes", "fmm_order"}
+         "newton", "rotation_cg", "mass_cg", "rotation_fresh_starts", "elements", "nodes", "fmm_order", "fmm_leaf_size"}
 
 
 def cases(root):

@@ -81,6 +81,7 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
 SingleLayer::~SingleLayer() = default;
 
 int SingleLayer::fmm_order() const { return fmm_ ? fmm_->order() : 0; }
+int SingleLayer::fmm_leaf_size() const { return fmm_ ? fmm_->leaf_size() : 0; }
 
 void SingleLayer::build_sources(const Points& x, const Points& q) {
   surface_.update(x, threads_);

@@ -162,7 +162,8 @@ nlohmann::json Simulation::Impl::metadata() const {
                          {"git_hash", git_hash()}, {"build", build_info()}, {"threads", threads},
                          {"backend", to_string(dyn->single_layer().backend())},
                          {"backend_reason", dyn->single_layer().backend_reason()},
-                         {"fmm_order", dyn->single_layer().fmm_order()}};
+                         {"fmm_order", dyn->single_layer().fmm_order()},
+                         {"fmm_leaf_size", dyn->single_layer().fmm_leaf_size()}};
   meta["run_id"] = run_id;
   meta["mesh_hash"] = mesh_hash;
   if (restart.new_folder) {

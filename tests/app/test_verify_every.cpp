@@ -60,6 +60,8 @@ TEST(VerifyEvery, TheCalibratedOrderPassesAndATooLowOrderFailsWithAWarning) {
   const nlohmann::json& gc = g["far_field_check"];
   EXPECT_EQ(gc["backend"], "fmm");
   EXPECT_EQ(gc["fmm_order"], 8);
+  EXPECT_EQ(g["fmm_order"], 8);
+  EXPECT_EQ(g["fmm_leaf_size"], 100);  // the scene's fluid.fmm_leaf_size, honoured and reported
   // Every evaluation was checked (verify_every = 1).
   EXPECT_EQ(gc["checks"].get<long>(), g["rhs_evaluations"].get<long>());
   // The promise of fluid.tolerance: max node difference relative to max |v| below it.

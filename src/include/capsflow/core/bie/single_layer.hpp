@@ -127,6 +127,7 @@ class SingleLayer {
   const NearFieldLists& near_field_lists() const { return lists_; }
   const std::string& backend_reason() const { return reason_; }
   int fmm_order() const;
+  int fmm_leaf_size() const;  // points per leaf of the FMM's tree; 0 with the direct far field
   // Seconds in the phases BieSources, BieFar and BieNear, summed over apply() calls.
   const PhaseTimes& times() const { return times_; }
   long evaluations() const { return evaluations_; }
