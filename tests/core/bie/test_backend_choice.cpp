@@ -58,6 +58,28 @@ std::map<double, std::map<std::pair<std::string, int>, Size>> single_layer_timin
   return t;
 }
 
+
+// A leaf-size sweep (perf/fmm/results/*.jsonl: fmm_bench lines) checked against a kernel's default
+// leaf: for every (sources, targets, order) case, the default must have been measured and cost at
+// most (1 + slack) times the best leaf of that case. Returns the number of cases.
+template <class Kernel>
+std::size_t expect_default_leaf_near_best(const std::string& sweep, double slack) {
+  std::map<std::tuple<long, long, int>, std::map<int, double>> by;  // (N, M, p) → leaf → seconds
+  for (const auto& r : read_jsonl(sweep))
+    by[{r["n"].get<long>(), r["ntrg"].get<long>(), r["order"].get<int>()}][r["leaf"].get<int>()] =
+        r["setup_s"].get<double>() + r["eval_s"].get<double>();
+  for (const auto& [key, times] : by) {
+    const auto& [n, ntrg, p] = key;
+    double best = INFINITY;
+    for (const auto& [leaf, t] : times) best = std::min(best, t);
+    const int leaf = fmm::default_leaf_size<Kernel>(p);
+    EXPECT_TRUE(times.count(leaf)) << sweep << ": leaf " << leaf << " was not measured at p = " << p;
+    if (times.count(leaf)) {
+      EXPECT_LE(times.at(leaf), (1 + slack) * best) << sweep << ": N = " << n << " × " << ntrg << ", p = " << p << ", leaf " << leaf;
+    }
+  }
+  return by.size();
+}
 }  // namespace
 
 TEST(BackendChoice, AutoPicksTheFasterSingleLayerFarFieldAtEveryMeasuredSize) {
@@ -146,38 +168,16 @@ TEST(BackendChoice, TheDoubleLayerUsesTheStressletFmmsMeasuredCrossover) {
 TEST(BackendChoice, TheStressletsDefaultLeafIsWithinTenPercentOfTheBestMeasured) {
   // perf/fmm/results/stresslet/leaf.jsonl: leaves of 200–800 points at p = 6, 9, 12 (N = 1e5) and
   // p = 9 (N = 1e6), sphere. 10 %: the repeats' spread, as kTie.
-  std::map<std::pair<long, int>, std::map<int, double>> by;  // (N, p) → leaf → seconds
-  for (const auto& r : read_jsonl("perf/fmm/results/stresslet/leaf.jsonl"))
-    by[{r["n"].get<long>(), r["order"].get<int>()}][r["leaf"].get<int>()] = r["setup_s"].get<double>() + r["eval_s"].get<double>();
-  ASSERT_EQ(by.size(), 4u);
-  for (const auto& [key, times] : by) {
-    double best = INFINITY;
-    for (const auto& [leaf, t] : times) best = std::min(best, t);
-    const int leaf = fmm::default_leaf_size<fmm::Stresslet>(key.second);
-    ASSERT_TRUE(times.count(leaf)) << "leaf " << leaf << " was not measured at p = " << key.second;
-    EXPECT_LE(times.at(leaf), (1 + kTie) * best) << "N = " << key.first << ", p = " << key.second << ", leaf " << leaf;
-  }
+  EXPECT_EQ(expect_default_leaf_near_best<fmm::Stresslet>("perf/fmm/results/stresslet/leaf.jsonl", kTie), 4u);
 }
 
 TEST(BackendChoice, TheStokesletsDefaultLeafIsNearTheBestMeasuredAtTheBoundaryIntegralsSizes) {
   // perf/fmm/results/leaf_bie_stokeslet.jsonl (perf/fmm/leaf_bie.sh): leaves of 400–1 600 points at
   // p = 6–12 (200–1 300 at p = 4), 3 sources per target at the sizes of 20 480, 81 920 and 327 680
-  // elements and sources = targets at N = 1e5. 25 %: single runs
-  // there scattered by up to ~20 % (e.g. p = 10, leaf 1 000, 122 880 sources: 0.37 s between
-  // neighbours' 0.24–0.25 s); the session-2 leaf of 600 loses 1.5–3.3× and fails.
-  std::map<std::pair<std::pair<long, long>, int>, std::map<int, double>> by;  // ((N, M), p) → leaf → seconds
-  for (const auto& r : read_jsonl("perf/fmm/results/leaf_bie_stokeslet.jsonl"))
-    by[{{r["n"].get<long>(), r["ntrg"].get<long>()}, r["order"].get<int>()}][r["leaf"].get<int>()] =
-        r["setup_s"].get<double>() + r["eval_s"].get<double>();
-  ASSERT_EQ(by.size(), 28u);  // 4 sizes × 7 orders
-  for (const auto& [key, times] : by) {
-    double best = INFINITY;
-    for (const auto& [leaf, t] : times) best = std::min(best, t);
-    const int leaf = fmm::default_leaf_size<fmm::Stokeslet>(key.second);
-    ASSERT_TRUE(times.count(leaf)) << "leaf " << leaf << " was not measured at p = " << key.second;
-    EXPECT_LE(times.at(leaf), 1.25 * best) << "N = " << key.first.first << " × " << key.first.second << ", p = " << key.second
-                                           << ", leaf " << leaf;
-  }
+  // elements and sources = targets at N = 1e5. 25 %: single runs there scattered by up to ~20 %
+  // (e.g. p = 10, leaf 1 000, 122 880 sources: 0.37 s between neighbours' 0.24–0.25 s); the
+  // session-2 leaf of 600 loses 1.5–3.3× and fails.
+  EXPECT_EQ(expect_default_leaf_near_best<fmm::Stokeslet>("perf/fmm/results/leaf_bie_stokeslet.jsonl", 0.25), 28u);  // 4 sizes × 7 orders
 }
 
 TEST(BackendChoice, ASceneRequestIsHonouredWhateverTheSize) {
