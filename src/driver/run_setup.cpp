@@ -98,7 +98,7 @@ void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
   const bool existed = fs::exists(target, ec);
   folder_lock = io::FolderLock::acquire(target, "run");
   if (folder_lock.taken_over())
-    spdlog::warn("output folder {}: took over the lock of {}, which is gone", target.string(), folder_lock.taken_over()->describe());
+    spdlog::warn("output folder {}: {}", target.string(), folder_lock.taken_over()->takeover_note());
   try {
     if (opt.restart.empty()) set_up_new_folder();
     else set_up_restart_folder(ck);

@@ -67,6 +67,12 @@ std::string LockHolder::describe() const {
   return fmt::format("pid {} on host {} (capsflow {}, started {})", pid, host, command, started_utc);
 }
 
+std::string LockHolder::takeover_note() const {
+  return fmt::format("took over the lock file of {}, which no process held (it ended without releasing it, or this "
+                     "folder was copied while it ran)",
+                     describe());
+}
+
 std::optional<LockHolder> read_lock_holder(const fs::path& lock_file) {
   const int fd = ::open(lock_file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) return std::nullopt;

@@ -16,7 +16,7 @@ io::FolderLock lock_study_folder(const fs::path& dir, const std::string& holder,
     try {
       io::FolderLock lock = io::FolderLock::acquire(dir, holder);
       if (lock.taken_over())
-        spdlog::warn("study folder {}: took over the lock of {}, which is gone", dir.string(), lock.taken_over()->describe());
+        spdlog::warn("study folder {}: {}", dir.string(), lock.taken_over()->takeover_note());
       return lock;
     } catch (const io::FolderBusy& busy) {
       const auto h = io::read_lock_holder(dir / io::kFolderLockFile);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <functional>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -122,8 +123,12 @@ nlohmann::json base_scene_json(const StudyPlan& plan) {
 
 std::string family_label(const std::string& family) { return family.empty() ? "scene" : family; }
 
-StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::string>& overrides,
-                          const std::vector<int>& levels, const std::vector<VaryAxis>& vary) {
+namespace {
+
+using SceneLoader = std::function<Scene(const std::vector<SceneOverride>&)>;
+
+StudyPlan build_study_plan(const std::string& scene_path, const SceneLoader& load, const std::vector<std::string>& overrides,
+                           const std::vector<int>& levels, const std::vector<VaryAxis>& vary) {
   StudyPlan plan;
   plan.scene_path = scene_path;
   plan.overrides = overrides;
@@ -137,9 +142,6 @@ StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::
     if (!keys.insert(a.key).second) fail("--vary " + a.key + ": the key is given twice");
 
   // Each override names the option that gave it, so that an error blames --vary or --levels.
-  auto load = [&](const std::vector<SceneOverride>& o) {
-    return scene_path.empty() ? parse_scene_with(default_scene_toml(), kBuiltInSceneName, o) : load_scene_with(scene_path, o);
-  };
   std::vector<SceneOverride> set;
   for (const std::string& o : overrides) set.push_back({o, "--set"});
   const Scene base = load(set);
@@ -193,6 +195,23 @@ StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::
     }
   refuse_equal_families(plan);
   return plan;
+}
+
+}  // namespace
+
+StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::string>& overrides,
+                          const std::vector<int>& levels, const std::vector<VaryAxis>& vary) {
+  if (scene_path.empty()) return make_study_plan_from_text("", default_scene_toml(), overrides, levels, vary);
+  const SceneLoader load = [&](const std::vector<SceneOverride>& o) { return load_scene_with(scene_path, o); };
+  return build_study_plan(scene_path, load, overrides, levels, vary);
+}
+
+StudyPlan make_study_plan_from_text(const std::string& scene_path, const std::string& scene_text,
+                                    const std::vector<std::string>& overrides, const std::vector<int>& levels,
+                                    const std::vector<VaryAxis>& vary) {
+  const std::string name = scene_path.empty() ? std::string(kBuiltInSceneName) : scene_path;
+  const SceneLoader load = [&](const std::vector<SceneOverride>& o) { return parse_scene_with(scene_text, name, o); };
+  return build_study_plan(scene_path, load, overrides, levels, vary);
 }
 
 }  // namespace capsflow::study

@@ -66,7 +66,8 @@ nlohmann::json study_json(const StudyReport& r) {
                 {"set", p.overrides}, {"levels", p.levels}, {"vary", vary}, {"families", families},
                 {"command_line", r.command_line}, {"version", version_string()}, {"git", git_hash()},
                 {"refinement", "h halves from one level to the next"},
-                {"sane_order_range", {kMinSaneOrder, kMaxSaneOrder}}, {"base_scene", base_scene_json(p)}};
+                {"sane_order_range", {kMinSaneOrder, kMaxSaneOrder}}, {"base_scene", base_scene_json(p)},
+                {"scene_text", p.variants.front().scene.toml_text}};
   nlohmann::json variants = nlohmann::json::array();
   for (std::size_t i = 0; i < p.variants.size(); ++i) {
     const Variant& v = p.variants[i];

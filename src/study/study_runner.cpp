@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 
 #include "capsflow/core/study/cost_model.hpp"
@@ -142,12 +143,18 @@ int run_one_variant(const StudyPlan& plan, const StudyOptions& o) {
   return code;
 }
 
+struct RecordedStudy {
+  StudyOptions options;
+  std::optional<std::string> scene_text;  // absent in study.json files written before it was recorded
+};
+
 // The study recorded in DIR/study.json (the `study` block written by study_report).
-StudyOptions recorded_study(const fs::path& dir) {
+RecordedStudy recorded_study(const fs::path& dir) {
   const fs::path p = dir / kStudyJson;
   std::ifstream in(p);
   if (!in) fail("cannot read '" + p.string() + "': not a study folder");
-  StudyOptions o;
+  RecordedStudy r;
+  StudyOptions& o = r.options;
   o.dir = dir;
   try {
     const nlohmann::json s = nlohmann::json::parse(in).at("study");
@@ -157,10 +164,23 @@ StudyOptions recorded_study(const fs::path& dir) {
     o.levels = s.at("levels").get<std::vector<int>>();
     for (const auto& a : s.at("vary")) o.vary.push_back({a.at("key").get<std::string>(), a.at("values").get<std::vector<std::string>>()});
     o.command_line = s.value("command_line", std::string());
+    if (s.contains("scene_text")) r.scene_text = s.at("scene_text").get<std::string>();
   } catch (const nlohmann::json::exception& e) {
     fail("'" + p.string() + "': not a study.json of this capsflow (" + e.what() + ")");
   }
-  return o;
+  return r;
+}
+
+// The plan of a recorded study: from the scene text it recorded, or (an older study.json) from the
+// scene file at the recorded path, which is relative to the folder the study was started in.
+StudyPlan recorded_plan(const RecordedStudy& r) {
+  const StudyOptions& o = r.options;
+  if (r.scene_text) return make_study_plan_from_text(o.scene_path, *r.scene_text, o.overrides, o.levels, o.vary);
+  std::error_code ec;
+  if (!o.scene_path.empty() && !fs::exists(o.scene_path, ec))
+    fail("study --analyse: " + (o.dir / kStudyJson).string() + " predates recorded scene texts and names the scene file '" +
+         o.scene_path + "', which is not found from here: run --analyse from the folder the study was started in");
+  return make_study_plan(o.scene_path, o.overrides, o.levels, o.vary);
 }
 
 }  // namespace
@@ -217,9 +237,10 @@ int run_study(const StudyOptions& o) {
 }
 
 int analyse_study_folder(const fs::path& dir) {
-  const StudyOptions o = recorded_study(dir);
+  const RecordedStudy recorded = recorded_study(dir);
+  const StudyOptions& o = recorded.options;
   const io::FolderLock lock = lock_study_folder(dir, kAnalysisHolder);  // it rewrites the study's reports
-  const StudyPlan plan = make_study_plan(o.scene_path, o.overrides, o.levels, o.vary);
+  const StudyPlan plan = recorded_plan(recorded);
   std::vector<VariantRecord> records = read_variant_records(plan, dir);
   annotate_from_slurm_records(plan, dir, records);
   write_reports(plan, records, dir, o.command_line);

@@ -62,14 +62,15 @@ inline std::vector<std::map<std::string, double>> series_rows(const fs::path& di
 }
 
 // Any capsflow command line; stdout and stderr together in DIR/log.txt (spdlog writes both levels
-// to stdout).
+// to stdout). With `cwd`, run from that folder (relative paths in args are relative to it).
 struct Result {
   int code;
   std::string out;
 };
-inline Result capsflow(const std::string& args, const fs::path& dir) {
+inline Result capsflow(const std::string& args, const fs::path& dir, const fs::path& cwd = {}) {
   const fs::path log = dir / "log.txt";
-  const std::string cmd = std::string(CAPSFLOW_EXE) + " " + args + " > " + log.string() + " 2>&1";
+  const std::string cd = cwd.empty() ? std::string() : "cd '" + cwd.string() + "' && ";
+  const std::string cmd = cd + std::string(CAPSFLOW_EXE) + " " + args + " > " + log.string() + " 2>&1";
   const int status = std::system(cmd.c_str());
   std::ifstream in(log);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, std::string(std::istreambuf_iterator<char>(in), {})};

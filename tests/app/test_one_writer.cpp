@@ -142,7 +142,7 @@ TEST(OneWriter, TheLockOfAKilledRunIsTakenOverAndItsFirstCheckpointContinues) {
   ASSERT_TRUE(fs::exists(run / ".capsflow.lock"));
   const auto again = capsflow("run --restart " + run.string() + " --set time.t_end=0.02", d.path);
   EXPECT_EQ(again.code, 0) << again.out;
-  EXPECT_NE(again.out.find("took over the lock of pid " + std::to_string(killed)), std::string::npos) << again.out;
+  EXPECT_NE(again.out.find("took over the lock file of pid " + std::to_string(killed)), std::string::npos) << again.out;
   EXPECT_FALSE(fs::exists(run / ".capsflow.lock"));
 }
 

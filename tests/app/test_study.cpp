@@ -237,6 +237,33 @@ TEST(Study, TheSceneMayFollowVaryAndSet) {
   EXPECT_EQ(json_of(d.path / "s" / "study.json")["study"]["scene"], scene.string());
 }
 
+TEST(Study, AnalyseNeedsNeitherTheSceneFileNorTheFolderTheStudyStartedIn) {
+  // A study started with a relative scene path, its folder moved and the scene file deleted:
+  // --analyse from elsewhere still rebuilds the plan, from the scene text study.json recorded.
+  TempDir d;
+  const fs::path start = d.path / "start";
+  fs::create_directories(start / "scenes");
+  fs::copy_file(fs::path(CAPSFLOW_SOURCE_DIR) / "scenes" / "quick.toml", start / "scenes" / "q.toml");
+  const Result r = capsflow("study scenes/q.toml --levels 1 --threads 2 -o s --set wall.model=membrane --set time.t_end=0.02",
+                            d.path, start);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(json_of(start / "s" / "study.json")["study"]["scene"], "scenes/q.toml");  // as given: the report shows it
+  fs::remove(start / "scenes" / "q.toml");
+  fs::rename(start / "s", d.path / "moved");
+  const Result an = capsflow("study --analyse moved", d.path, d.path);
+  EXPECT_EQ(an.code, 0) << an.out;
+  EXPECT_NE(an.out.find("1 of 1 variants finished"), std::string::npos) << an.out;
+  // A study.json written before the text was recorded names the file it needs and where to run from.
+  nlohmann::json old = json_of(d.path / "moved" / "study.json");
+  old["study"].erase("scene_text");
+  std::ofstream(d.path / "moved" / "study.json") << old.dump(1);
+  const Result refused = capsflow("study --analyse moved", d.path, d.path);
+  EXPECT_EQ(refused.code, 1) << refused.out;
+  EXPECT_NE(refused.out.find("'scenes/q.toml', which is not found from here: run --analyse from the folder the study was started in"),
+            std::string::npos)
+      << refused.out;
+}
+
 TEST(Study, TwoJobsAtOnceGiveTheSequentialStudysResults) {
   // Levels 1–2 × two families, once one after the other with 2 threads, once two at a time with
   // one thread each (the finest first): the same runs, so the same study files apart from times.

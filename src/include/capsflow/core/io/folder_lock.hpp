@@ -30,6 +30,9 @@ struct LockHolder {
   std::string started_utc;  // ISO 8601
   std::string command;      // "run", "study", ...
   std::string describe() const;  // "pid 123 on host h (capsflow run, started 2026-12-01T18:20:31Z)"
+  // What the taker of a lock file this holder left unheld says: the holder ended without releasing
+  // it, or the folder is a copy made while it ran (its pid may be alive, holding the original).
+  std::string takeover_note() const;
 };
 
 // Another process holds the lock: what() is the one-line message naming the holder.

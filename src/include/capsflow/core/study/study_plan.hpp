@@ -53,6 +53,11 @@ VaryAxis parse_vary(const std::string& text);
 // Builds and validates every variant. Throws SceneError / std::runtime_error (one line).
 StudyPlan make_study_plan(const std::string& scene_path, const std::vector<std::string>& overrides,
                           const std::vector<int>& levels, const std::vector<VaryAxis>& vary);
+// The same from the scene file's text as a study recorded it (study.json's `study.scene_text`), so
+// that `study --analyse` needs neither the file nor the folder the study was started from.
+StudyPlan make_study_plan_from_text(const std::string& scene_path, const std::string& scene_text,
+                                    const std::vector<std::string>& overrides, const std::vector<int>& levels,
+                                    const std::vector<VaryAxis>& vary);
 
 // The scene every variant shares: the scene file with the study's --set, mesh.level and the vary
 // keys left out (to_json form; study.json's `study.base_scene`).
