@@ -98,7 +98,7 @@ void SingleLayer::build_sources(const Points& x, const Points& q) {
 #pragma omp parallel num_threads(threads_)
   {
     Vec3 y, f;
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 256)
     for (Eigen::Index e = 0; e < m; ++e) {
       const QuadraticTriangle T = surface_.element(x, e, 0);
       StokesletBlock& fb = far_block_[static_cast<size_t>(e)];
@@ -120,7 +120,7 @@ void SingleLayer::build_sources(const Points& x, const Points& q) {
     // Each source: at its first slot's point, with the sum of its slots' forces (both elements'
     // shares of an edge's midpoint); its other slot takes the same position, so that the near
     // field subtracts exactly what the far field added.
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 256)
     for (Eigen::Index source = 0; source < n_src; ++source) {
       const auto& s = source_slots_[static_cast<size_t>(source)];
       const StokesletBlock& b0 = far_block_[static_cast<size_t>(s[0] / 3)];
@@ -168,7 +168,7 @@ void SingleLayer::correct_near_field(const Points& x, const Points& q, Points& u
 #pragma omp parallel num_threads(threads_)
   {
     StokesletBatch& batch = batches_[static_cast<size_t>(omp_get_thread_num())];
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 64)
     for (Eigen::Index i = 0; i < n_nodes_; ++i) {
       const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
       V acc[3] = {V(0.0), V(0.0), V(0.0)};
