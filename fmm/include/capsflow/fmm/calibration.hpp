@@ -37,21 +37,26 @@ struct CalibrationRow {
 // 14 not measured, same). The session-2 leaves (200–600, tuned when M2L was slower) cost 1.5–3.3×
 // at these sizes: at 600 the trees are one level deeper (e.g. 122 880 × 40 962 at p = 9: 0.37 s
 // against 0.20 s). crossover: N at which setup + one evaluation beats direct_sum (sphere,
-// sources = targets, 2 threads, quiet machine, perf/fmm/RESULTS.md: 5.2e3 at p = 6, 8.3e3 at
-// p = 8, 1.2e4 at p = 10), rounded up; p = 11..14 are EXTRAPOLATED (+15–20 % per order, not
-// measured; all measured with the session-2 leaves, so with today's faster FMM they err towards
-// direct). Sources != targets use the geometric mean sqrt(n_src·n_trg).
+// sources = targets, 2 threads, quiet machine), re-measured in session 13 with these leaves
+// (fmm_bench --dist sphere --n N --reps 3, N = 4 000–128 000, log-log between the last two sizes
+// where the order changes; perf/fmm/results/crossover-s13/): 6 203 at p = 6, 8 165 at p = 9,
+// 12 604 at p = 10, 21 107 at p = 11, 21 304 at p = 12, 26 234 at p = 13, 26 005 at p = 14, rounded
+// up (p = 14 takes p = 13's). From p = 11 on a tree level added near N = 16 000 costs more than it
+// saves (the FMM is 1.4–2.4× the direct sum there, 1.0–1.1× at 8 000), hence the jump. p = 7, 8 are
+// INTERPOLATED geometrically between p = 6 and 9; p = 4 is not measured (session 2's value). The
+// session-2 column (leaves 200–600) had 11 000 at p = 9 and extrapolated 15 000 at p = 11.
+// Sources != targets use the geometric mean sqrt(n_src·n_trg).
 inline constexpr CalibrationRow kCalibration[] = {
     {2e-3, 4, 400, 4000},
-    {1e-4, 6, 1000, 6000},
-    {1e-5, 7, 1300, 7000},
-    {2e-6, 8, 1300, 9000},  // not 1e-6: a clustered case reached 1.08e-6 at p = 8 (multi-density test)
-    {1e-7, 9, 1300, 11000},
-    {2e-8, 10, 1300, 13000},
-    {4e-9, 11, 1300, 15000},
-    {1e-9, 12, 1300, 18000},
-    {3e-10, 13, 1300, 21000},
-    {0.0, 14, 1300, 25000},
+    {1e-4, 6, 1000, 6300},
+    {1e-5, 7, 1300, 6800},
+    {2e-6, 8, 1300, 7500},  // not 1e-6: a clustered case reached 1.08e-6 at p = 8 (multi-density test)
+    {1e-7, 9, 1300, 8200},
+    {2e-8, 10, 1300, 12700},
+    {4e-9, 11, 1300, 21200},
+    {1e-9, 12, 1300, 21400},
+    {3e-10, 13, 1300, 26300},
+    {0.0, 14, 1300, 26300},
 };
 
 // The stresslet (double layer, stresslet.hpp), calibrated the same way over 20 cases: the
@@ -81,8 +86,8 @@ inline constexpr CalibrationRow kCalibration[] = {
 // the leaf whose worst loss is smallest. Other orders are not measured and take 800 too.
 // crossover: measured at p = 6, 9, 12 (§5, results/stresslet/crossover.jsonl; sphere, sources =
 // targets, set-up + one evaluation against direct_sum<Stresslet>, log-log between the sizes
-// 4000–64000, rounded up): 7 300, 15 000, 40 000 — later than the Stokeslet's (6 000, 11 000,
-// 18 000) because the stresslet's direct sum is 1.6x faster per pair (3.9 against 2.4 G pairs/s).
+// 4000–64000, rounded up): 7 300, 15 000, 40 000 — later than the Stokeslet's of the time (6 000,
+// 11 000, 18 000) because the stresslet's direct sum is 1.6x faster per pair (3.9 against 2.4 G pairs/s).
 // Measured with the leaves of the time (300 at p = 6, 600 at p = 9 and 12). p = 7, 8, 10, 11 are
 // INTERPOLATED geometrically between the measured orders; p = 4, 5 EXTRAPOLATED (the Stokeslet's
 // at the same order × 7300/6000), p = 13, 14 EXTRAPOLATED (+20 % per order, the Stokeslet's rule).
