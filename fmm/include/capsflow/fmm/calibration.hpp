@@ -92,7 +92,8 @@ inline constexpr CalibrationRow kCalibration[] = {
 // 11 000, 18 000) because the stresslet's direct sum is 1.6x faster per pair (3.9 against 2.4 G pairs/s).
 // Measured with the leaves of the time (300 at p = 6, 600 at p = 9 and 12). p = 7, 8, 10, 11 are
 // INTERPOLATED geometrically between the measured orders; p = 4, 5 EXTRAPOLATED (the Stokeslet's
-// at the same order × 7300/6000), p = 13, 14 EXTRAPOLATED (+20 % per order, the Stokeslet's rule).
+// at the same order × 7300/6000), p = 13, 14 EXTRAPOLATED (+20 % per order, the rule the
+// Stokeslet's column followed then).
 inline constexpr CalibrationRow kStressletCalibration[] = {
     {2.5e-2, 4, 800, 4900},
     {1.2e-2, 5, 800, 6100},
