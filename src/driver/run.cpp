@@ -46,6 +46,7 @@ std::optional<StopReason> Simulation::Impl::step() {
   const SurfaceMesh now{st.x, ref.triangles};
   steady->add(st.t, surface_area(now), inertia_ellipsoid(now));
   const std::optional<StopReason> health_stop = observe_health();
+  if (!health_stop && tolerance_must_tighten() && tighten_tolerance()) return std::nullopt;  // rewound to t = 0
   write_due_outputs();
   report_progress(false);
   if (health_stop) return stop(*health_stop);

@@ -24,6 +24,32 @@ void Simulation::Impl::set_up() {
   io::CheckpointState ck;
   set_up_folder(ck);
   mesh_hash = io::mesh_hash(ref.vertices, ref.triangles);
+  make_parts();
+  if (!opt.restart.empty()) restore(ck);
+  else start_at_reference();
+  const nlohmann::json meta = metadata();
+  out = opt.restart.empty() || restart.new_folder ? std::make_unique<io::ResultsWriter>(folder, ref, meta)
+                                                  : std::make_unique<io::ResultsWriter>(io::ResultsWriter::reopen(folder, st.t, meta));
+  log_set_up();
+  stepper = make_time_stepper(stepping_scene(), ref.triangles, st.volume0, st.x);
+  if (!opt.restart.empty()) {
+    const auto e = nlohmann::json::parse(ck.extra);
+    stepper->load(e, ck.integrator_state, st.x);
+  }
+  if (opt.restart.empty()) observe_health();  // the reference state: no episode can begin here
+  effort_mark = dyn->counters();
+  if (opt.restart.empty() || restart.new_folder) {
+    write_first_output();
+  } else {
+    const SurfaceMesh cur{st.x, ref.triangles};
+    last_shape = shape_diagnostics(cur);
+    last_plane_shape = in_plane_shape(cur, plane);
+    tank_treading->update(cur, st.t);  // the rate of the next row is measured from here
+  }
+  t_segment_start = st.t;
+}
+
+void Simulation::Impl::make_parts() {
   steady = std::make_unique<SteadyStateDetector>(scene.time.steady_tol);
   dyn = std::make_unique<CapsuleDynamics>(scene, ref, threads);
   health = std::make_unique<HealthMonitor>(scene, ref);
@@ -35,41 +61,24 @@ void Simulation::Impl::set_up() {
                                                  "double-layer far-field check", "the largest directly summed value");
   plane = flow_plane(scene.flow.gradient);
   tank_treading = std::make_unique<TankTreadingMeter>(plane);
-  if (!opt.restart.empty()) {
-    restore(ck);
-  } else {
-    st.x = ref.vertices;
-    st.volume0 = enclosed_volume(ref);
-    st.area0 = surface_area(ref);
-    steady->add(0.0, st.area0, inertia_ellipsoid(ref));
+}
+
+void Simulation::Impl::start_at_reference() {
+  st.x = ref.vertices;
+  st.volume0 = enclosed_volume(ref);
+  st.area0 = surface_area(ref);
+  steady->add(0.0, st.area0, inertia_ellipsoid(ref));
+}
+
+void Simulation::Impl::write_first_output() {
+  try {
+    write_output();
+  } catch (const SolverFailure& e) {  // the first evaluation failed: the run stops before its first step
+    spdlog::error("{}", stop(StopReason(StopKind::SolverFailure, fmt::format("{} at t = {:g}", e.what(), st.t)))->to_string());
   }
-  const nlohmann::json meta = metadata();
-  out = opt.restart.empty() || restart.new_folder ? std::make_unique<io::ResultsWriter>(folder, ref, meta)
-                                                  : std::make_unique<io::ResultsWriter>(io::ResultsWriter::reopen(folder, st.t, meta));
-  log_set_up();
-  stepper = make_time_stepper(scene, ref.triangles, st.volume0, st.x);
-  if (!opt.restart.empty()) {
-    const auto e = nlohmann::json::parse(ck.extra);
-    stepper->load(e, ck.integrator_state, st.x);
-  }
-  if (opt.restart.empty()) observe_health();  // the reference state: no episode can begin here
-  effort_mark = dyn->counters();
-  if (opt.restart.empty() || restart.new_folder) {
-    try {
-      write_output();
-    } catch (const SolverFailure& e) {  // the first evaluation failed: the run stops before its first step
-      spdlog::error("{}", stop(StopReason(StopKind::SolverFailure, fmt::format("{} at t = {:g}", e.what(), st.t)))->to_string());
-    }
-    // A checkpoint as soon as the run starts: a run stopped by a full disk (or a file-size limit)
-    // before its first periodic one still leaves a state to continue from.
-    write_checkpoint(folder / io::kCheckpointFile);
-  } else {
-    const SurfaceMesh cur{st.x, ref.triangles};
-    last_shape = shape_diagnostics(cur);
-    last_plane_shape = in_plane_shape(cur, plane);
-    tank_treading->update(cur, st.t);  // the rate of the next row is measured from here
-  }
-  t_segment_start = st.t;
+  // A checkpoint as soon as the run starts: a run stopped by a full disk (or a file-size limit)
+  // before its first periodic one still leaves a state to continue from.
+  write_checkpoint(folder / io::kCheckpointFile);
 }
 
 namespace {
@@ -166,6 +175,7 @@ nlohmann::json Simulation::Impl::metadata() const {
                          {"fmm_leaf_size", dyn->single_layer().fmm_leaf_size()}};
   meta["run_id"] = run_id;
   meta["mesh_hash"] = mesh_hash;
+  if (st.rewind) meta["auto_tolerance_rewind"] = st.rewind->to_json();
   if (restart.new_folder) {
     meta["parent_run_id"] = restart.parent_run_id;
     meta["parent_checkpoint"] = std::filesystem::absolute(checkpoint_path).lexically_normal().string();

@@ -29,6 +29,17 @@
 
 namespace capsflow {
 
+// time.tolerance = "auto" (stepping/auto_tolerance.hpp): the loose part of a run that was discarded
+// when the wall folded at the mesh scale and the run started again from t = 0 (rewind.cpp).
+struct AutoToleranceRewind {
+  double t = 0;            // γ̇t at which the folds were seen
+  long steps = 0;          // accepted steps of the discarded part
+  long evaluations = 0;    // its right-hand-side evaluations (counted in the run's total)
+  double seconds = 0;      // its wall time (counted in the run's total)
+  nlohmann::json to_json() const;
+  static AutoToleranceRewind from_json(const nlohmann::json& j);
+};
+
 // Everything that evolves, and what a checkpoint must carry to continue bit for bit (with the
 // scheme's own state, TimeStepper::save).
 struct RunState {
@@ -42,6 +53,8 @@ struct RunState {
   long rejected_steps = 0;         // steps retried with a smaller step (all segments)
   long rhs_evaluations = 0;        // right-hand-side evaluations of earlier segments
   double gmres_per_eval_max = 0;   // λ ≠ 1: the largest gmres_per_eval of a timeseries row (all segments)
+  bool tolerance_tightened = false;  // "auto": the folded tolerance is in force
+  std::optional<AutoToleranceRewind> rewind;  // "auto": the discarded loose part, if any
   nlohmann::json extra() const;    // the checkpoint's "extra" entries of the run itself
   void set_extra(const nlohmann::json& e);
 };
@@ -54,6 +67,10 @@ struct Simulation::Impl {
   void set_up_folder(io::CheckpointState& ck);         // takes the folder lock, then:
   void set_up_restart_folder(io::CheckpointState& ck);  // the restart plan, the checkpoint's mesh
   void set_up_new_folder();
+  void make_parts();          // the right-hand side, monitors and watches, fresh
+  void start_at_reference();  // the state at t = 0
+  void write_first_output();  // the row and checkpoint at the run's start
+  Scene stepping_scene() const;  // the scene with the tolerance in force ("auto": loose or folded)
   void restore(const io::CheckpointState& ck);
   nlohmann::json metadata() const;
   void log_set_up() const;
@@ -64,6 +81,9 @@ struct Simulation::Impl {
   void roll_back();
   void write_due_outputs();
   std::optional<StopReason> observe_health();
+  // rewind.cpp: time.tolerance = "auto" once the wall folds at the mesh scale
+  bool tolerance_must_tighten() const;
+  bool tighten_tolerance();  // true: the run was rewound to t = 0
   std::optional<StopReason> stop(StopReason r);
   // run_output.cpp
   const Points& state_velocity();

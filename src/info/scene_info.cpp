@@ -17,6 +17,7 @@
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
+#include "capsflow/core/stepping/auto_tolerance.hpp"
 #include "capsflow/core/stepping/heun.hpp"
 #include "capsflow/core/stepping/rkc.hpp"
 #include "capsflow/core/stepping/stability.hpp"
@@ -142,7 +143,9 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
       const double steps = estimated_steps(scene.time.t_end, scene.output.every, tau);
       at.push_back({{"dt", tau}, {"stages", s}, {"evaluations", steps * s}});
     }
-    run["time_step"] = {{"kind", "error_controlled"}, {"tolerance", scene.time.tolerance}, {"at", at}};
+    run["time_step"] = {{"kind", "error_controlled"}, {"tolerance", scene.time.tolerance}, {"at", at},
+                        {"tolerance_auto", scene.time.tolerance_auto}};
+    if (scene.time.tolerance_auto) run["time_step"]["tolerance_folded"] = kAutoToleranceFolded;
   }
   run["time_step"]["t_end"] = scene.time.t_end;
   // Measured peak RSS: ≈ 2.4 KB per element with the direct back end (48 MB at 20 480 elements);

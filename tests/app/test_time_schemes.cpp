@@ -53,22 +53,24 @@ TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
   const fs::path ref = scratch("heun-quarter"), heun = scratch("heun-auto"), rkc = scratch("rkc"), fast = scratch("rkc-5e-5");
   ASSERT_EQ(run("--set time.scheme=heun --set time.dt_safety=0.175", ref), 0);  // 1/4 of the auto step
   ASSERT_EQ(run("--set time.scheme=heun", heun), 0);
-  ASSERT_EQ(run("", rkc), 0);  // the default: scheme auto → RKC for this GSMB wall, default tolerance
+  ASSERT_EQ(run("", rkc), 0);  // the default: scheme auto → RKC for this GSMB wall, tolerance auto
   ASSERT_EQ(run("--set time.scheme=rkc --set time.tolerance=5e-5", fast), 0);
   EXPECT_EQ(summary(rkc).at("scheme"), "rkc");
   int n = 0;
   // The default tolerance is chosen for 1e-4 on D_ij on every paper case, including walls that fold
-  // at the mesh scale (docs/time-integration.md §5.7); here it gives ≈ 1e-5 (measured 2026-11-30).
+  // at the mesh scale (docs/time-integration.md §5.7–5.8); this wall folds but does not crease, so
+  // "auto" keeps 1e-5 and gives 3.5e-5 (measured 2026-12-02; 1e-5 at 1e-6).
   EXPECT_LT(max_d13_difference(ref, rkc, &n), 1e-4);
+  EXPECT_TRUE(summary(rkc).at("time_tolerance").at("rewind").is_null());
   EXPECT_EQ(n, 21);  // every output time, t = 0, 0.1, ..., 2 (steps land on them)
   EXPECT_LT(max_d13_difference(ref, fast, &n), 1e-4);  // 5e-5 is enough on this smooth case (8.8e-5)
   const long e_heun = summary(heun).at("rhs_evaluations");
   const long e_rkc = summary(rkc).at("rhs_evaluations"), e_fast = summary(fast).at("rhs_evaluations");
-  // Measured 1997 / 602 = 3.3 at the default tolerance and 1997 / 322 = 6.2 at 5e-5 (2026-11-30;
-  // Heun's automatic step includes 2/ρ since 8710966: docs/time-integration.md §5.7). The issue's
-  // floor is 5× at 5e-5-level accuracy (D13 within 1e-4, asserted above); 3 at the default
-  // tolerance, which buys 1e-5.
-  EXPECT_GE(static_cast<double>(e_heun) / e_rkc, 3.0) << e_heun << " vs " << e_rkc;
+  // Measured 1997 / 410 = 4.9 at the default tolerance (2026-12-02; 1997 / 602 = 3.3 at 1e-6) and
+  // 1997 / 322 = 6.2 at 5e-5 (2026-11-30; Heun's automatic step includes 2/ρ since 8710966:
+  // docs/time-integration.md §5.7). The floor is 5× with D13 within 1e-4 (asserted above);
+  // 4.5 leaves the default 8 % of the measured ratio (a bound that 1e-6 everywhere would fail).
+  EXPECT_GE(static_cast<double>(e_heun) / e_rkc, 4.5) << e_heun << " vs " << e_rkc;
   EXPECT_GE(static_cast<double>(e_heun) / e_fast, 5.0) << e_heun << " vs " << e_fast;
   EXPECT_LT(std::abs(summary(rkc).at("volume_drift").get<double>()), 1e-12);  // projected every step
   for (const auto& p : {ref, heun, rkc, fast}) fs::remove_all(p), fs::remove(p.string() + ".log");
@@ -160,4 +162,81 @@ TEST(TimeSchemes, RkcErrorFallsWithTheTolerance) {
     fs::remove_all(p), fs::remove(p.string() + ".log");
   }
   fs::remove_all(ref), fs::remove(ref.string() + ".log");
+}
+
+// time.tolerance = "auto" (docs/time-integration.md §5.8): where the wall creases at the mesh scale
+// the run starts again from t = 0 at 1e-6 — and is then that run, row for row; where it does not,
+// it is the run at 1e-5. Table 1's GSMB α = 3 % case at 1280 elements creases at γ̇t ≈ 1.27
+// (facet angles 82°, measured 2026-12-02); the built-in scene folds from 1.35 but never creases
+// (facet angles ≤ 54°).
+TEST(TimeSchemes, AutoToleranceIsTheTightRunWhereTheWallCreasesAndTheLooseOneElsewhere) {
+  const fs::path aut = scratch("auto-creases"), tight = scratch("auto-tight"), smooth = scratch("auto-smooth"),
+                 loose = scratch("auto-loose");
+  const std::string creasing = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/paper_table1_nh_gsmb_alpha3.toml" +
+                               " --set mesh.level=3 --set time.t_end=1.5";
+  ASSERT_EQ(run(creasing, aut), 0);
+  ASSERT_EQ(run(creasing + " --set time.tolerance=1e-6", tight), 0);
+  const auto a = capsflow_test::series_rows(aut), b = capsflow_test::series_rows(tight);
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.size(), 16u);  // t = 0, 0.1, …, 1.5: the discarded loose rows are gone
+  for (size_t i = 0; i < a.size(); ++i) {
+    for (const auto& [column, value] : a[i]) {
+      if (column == "wall_seconds") continue;
+      EXPECT_EQ(value, b[i].at(column)) << column << " at row " << i;  // the same run: bit for bit
+    }
+  }
+  const nlohmann::json sa = summary(aut), sb = summary(tight);
+  const nlohmann::json& rewind = sa.at("time_tolerance").at("rewind");
+  ASSERT_FALSE(rewind.is_null());
+  EXPECT_GT(rewind.at("t").get<double>(), 1.0);  // measured 1.27: where the facet angles pass 80°
+  EXPECT_LT(rewind.at("t").get<double>(), 1.5);
+  EXPECT_EQ(sa.at("time_tolerance").at("in_force"), 1e-6);
+  // The cost is counted: the run's evaluations are the tight run's plus the discarded ones.
+  EXPECT_EQ(sa.at("rhs_evaluations").get<long>(),
+            sb.at("rhs_evaluations").get<long>() + rewind.at("rhs_evaluations").get<long>());
+  EXPECT_EQ(sa.at("timing").at("rhs_evaluations"), sb.at("timing").at("rhs_evaluations"));  // the table: the kept run
+
+  ASSERT_EQ(run("--set time.t_end=1.6", smooth), 0);
+  ASSERT_EQ(run("--set time.t_end=1.6 --set time.tolerance=1e-5", loose), 0);
+  const auto c = capsflow_test::series_rows(smooth), d = capsflow_test::series_rows(loose);
+  ASSERT_EQ(c.size(), d.size());
+  for (size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c[i].at("D13"), d[i].at("D13")) << "row " << i;
+  EXPECT_GT(c.back().at("grid_oscillation"), 0.033);  // it does fold (the monitors' threshold) ...
+  EXPECT_TRUE(summary(smooth).at("time_tolerance").at("rewind").is_null());  // ... but is not rewound
+  EXPECT_EQ(summary(smooth).at("rhs_evaluations"), summary(loose).at("rhs_evaluations"));
+  for (const auto& p : {aut, tight, smooth, loose}) capsflow_test::remove_run(p);
+}
+
+// A run continued from a checkpoint written before the wall creased rewinds in its own folder as
+// the uninterrupted run does, and a checkpoint written after the rewind continues at 1e-6.
+TEST(TimeSchemes, AutoToleranceRewindSurvivesRestarts) {
+  const fs::path whole = scratch("auto-whole"), parts = scratch("auto-parts");
+  const std::string base = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/paper_table1_nh_gsmb_alpha3.toml" +
+                           " --set mesh.level=3 --set output.checkpoint_every=0.5";
+  ASSERT_EQ(run(base + " --set time.t_end=1.5", whole), 0);
+  ASSERT_EQ(run(base + " --set time.t_end=1", parts), 0);  // before the creases (γ̇t ≈ 1.27)
+  EXPECT_TRUE(summary(parts).at("time_tolerance").at("rewind").is_null());
+  const auto restart = [&](const std::string& t_end) {
+    const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + (parts / "checkpoint.h5").string() +
+                            " --set time.t_end=" + t_end + " >> " + parts.string() + ".log2 2>&1";
+    return std::system(cmd.c_str());
+  };
+  ASSERT_EQ(restart("1.2"), 0);  // still before: loose
+  EXPECT_TRUE(summary(parts).at("time_tolerance").at("rewind").is_null());
+  ASSERT_EQ(restart("1.5"), 0);  // rewinds to t = 0 in this folder
+  const auto a = capsflow::io::read_checkpoint(whole / "checkpoint.h5");
+  const auto b = capsflow::io::read_checkpoint(parts / "checkpoint.h5");
+  EXPECT_EQ(a.step, b.step);
+  // Same thread count, same operations in the same order: bit for bit (1e-13 allows a library's
+  // summation order, as RkcRestartMatchesUninterruptedRun).
+  EXPECT_LT((a.positions - b.positions).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_EQ(capsflow_test::series_rows(whole).size(), capsflow_test::series_rows(parts).size());
+  // After the rewind the checkpoint carries the tight tolerance: continuing it does not rewind again.
+  ASSERT_EQ(restart("1.7"), 0);
+  const nlohmann::json s = summary(parts);
+  EXPECT_EQ(s.at("time_tolerance").at("in_force"), 1e-6);
+  EXPECT_NEAR(s.at("time_tolerance").at("rewind").at("t").get<double>(),
+              summary(whole).at("time_tolerance").at("rewind").at("t").get<double>(), 1e-12);
+  for (const auto& p : {whole, parts}) capsflow_test::remove_run(p);
+  fs::remove(parts.string() + ".log2");
 }

@@ -66,6 +66,23 @@ TEST(Scene, ResolvedTomlRoundTrips) {
   EXPECT_DOUBLE_EQ(b.flow.gradient(0, 1), 1.0);
 }
 
+// time.tolerance: "auto" by default (starting at the loose tolerance, docs/time-integration.md
+// §5.8), a number turns it off, and either survives the resolved TOML of a checkpoint.
+TEST(Scene, TimeToleranceIsAutoOrANumber) {
+  const Scene d = parse_scene("", "d");
+  EXPECT_TRUE(d.time.tolerance_auto);
+  EXPECT_EQ(d.time.tolerance, 1e-5);  // what RKC starts with (stepping/auto_tolerance.hpp)
+  EXPECT_NE(to_toml(d).find("tolerance = \"auto\""), std::string::npos);
+  EXPECT_TRUE(parse_scene(to_toml(d), "resolved").time.tolerance_auto);
+  const Scene n = parse_scene("", "d", {"time.tolerance=1e-6"});
+  EXPECT_FALSE(n.time.tolerance_auto);
+  EXPECT_EQ(n.time.tolerance, 1e-6);
+  const Scene r = parse_scene(to_toml(n), "resolved");
+  EXPECT_FALSE(r.time.tolerance_auto);
+  EXPECT_EQ(r.time.tolerance, 1e-6);
+  EXPECT_TRUE(parse_scene("[time]\ntolerance = \"auto\"\n", "d").time.tolerance_auto);
+}
+
 TEST(Scene, OverridesApplyAndAreNamedInErrors) {
   const Scene s = parse_scene(default_scene_toml(), "d", {"mesh.level=2", "wall.law=nh", "output.fields=[\"energy\"]"});
   EXPECT_EQ(s.mesh.level, 2);
@@ -145,6 +162,7 @@ TEST(SceneErrors, OutOfRangeNamesTheValueAndTheRange) {
       {"[wall]\nmax_newton = 0\n", "wall.max_newton: 0 is out of range: must be in [1, 1000]"},
       {"[flow]\nca_v = -0.5\n", "flow.ca_v: -0.5 is out of range: must be > 0"},
       {"[time]\ntolerance = 1\n", "time.tolerance: 1 is out of range: must be in [1e-9, 0.1] (units of ℓ)"},
+      {"[time]\ntolerance = \"loose\"\n", "time.tolerance: expected a number in [1e-9, 0.1] or \"auto\""},
       {"[time]\ndt = -1e-3\n", "time.dt: -0.001 is out of range: must be > 0"},
       {"[time]\nt_end = -5\n", "time.t_end: -5 is out of range: must be > 0"},
       {"[time]\nsteady_tol = 0\n", "time.steady_tol: 0 is out of range: must be > 0"},
