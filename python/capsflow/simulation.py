@@ -195,7 +195,10 @@ class Simulation:
         """One accepted step; the stop reason ('t_end', 'steady', 'blow_up', 'interrupted', ...) once
         the run is over (again on every later call), else None. A Ctrl-C during the step, or an
         exception of the progress callback, is raised here after the step, and the run is then
-        stopped as 'interrupted' (finish(), or leaving the `with` block, writes its checkpoint)."""
+        stopped as 'interrupted' (finish(), or leaving the `with` block, writes its checkpoint).
+        With time.tolerance = "auto" (the default), the step after which the wall creases at the
+        mesh scale starts the run again from t = 0 at the tight tolerance: `t` goes back once
+        (docs/time-integration.md §5.8)."""
         self._check_open()
         with _log(self._log):
             reason = self._sim.step()
