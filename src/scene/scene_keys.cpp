@@ -63,63 +63,49 @@ Key<TimeSpec> time_scheme(std::string meaning) {
   return k;
 }
 
-// time.dt: a positive number (a fixed step) or "auto".
-Key<TimeSpec> time_dt(std::string meaning) {
-  const Range<double> range = above(0.0);
+// A number in `range` or "auto", which sets the flag and puts `when_auto` in the number:
+// time.dt (a fixed step, or the scheme's own) and time.tolerance.
+Key<TimeSpec> number_or_auto(const std::string& name, double TimeSpec::*value, bool TimeSpec::*is_auto,
+                             const Range<double>& range, const std::string& expected, double when_auto, std::string meaning) {
   Key<TimeSpec> k =
-      documented<TimeSpec>("dt", "number or `\"auto\"`", range.text() + ", or `\"auto\"`", "`\"auto\"`", std::move(meaning));
-  k.set_default = [](TimeSpec& t) {
-    t.dt_auto = true;
-    t.dt = 0;
+      documented<TimeSpec>(name, "number or `\"auto\"`", range.text() + ", or `\"auto\"`", "`\"auto\"`", std::move(meaning));
+  k.set_default = [=](TimeSpec& t) {
+    t.*is_auto = true;
+    t.*value = when_auto;
   };
-  k.read = [range](const TomlReader& r, const std::string& sec, TimeSpec& t) {
-    const toml::node* n = r.find(sec, "dt");
+  k.read = [=](const TomlReader& r, const std::string& sec, TimeSpec& t) {
+    const toml::node* n = r.find(sec, name);
     if (!n) return;
     if (n->is_string()) {
-      if (n->as_string()->get() != "auto") r.fail(sec, "dt", "expected a positive number or \"auto\"");
-      t.dt_auto = true;
+      if (n->as_string()->get() != "auto") r.fail(sec, name, "expected " + expected + " or \"auto\"");
+      t.*is_auto = true;
+      t.*value = when_auto;
       return;
     }
-    const double dt = *r.number(sec, "dt");
-    if (!range.contains(dt)) r.fail(sec, "dt", range.out_of_range(dt));
-    t.dt = dt;
-    t.dt_auto = false;
+    const double v = *r.number(sec, name);
+    if (!range.contains(v)) r.fail(sec, name, range.out_of_range(v));
+    t.*value = v;
+    t.*is_auto = false;
   };
-  k.to_json = [](const TimeSpec& t) { return t.dt_auto ? nlohmann::json("auto") : nlohmann::json(t.dt); };
-  k.to_toml = [](const TimeSpec& t) { return std::optional<std::string>(t.dt_auto ? quoted("auto") : toml_number(t.dt)); };
+  k.to_json = [=](const TimeSpec& t) { return t.*is_auto ? nlohmann::json("auto") : nlohmann::json(t.*value); };
+  k.to_toml = [=](const TimeSpec& t) {
+    return std::optional<std::string>(t.*is_auto ? quoted("auto") : toml_number(t.*value));
+  };
   return k;
 }
 
+// time.dt: a positive number (a fixed step) or "auto" (0 in the number).
+Key<TimeSpec> time_dt(std::string meaning) {
+  return number_or_auto("dt", &TimeSpec::dt, &TimeSpec::dt_auto, above(0.0), "a positive number", 0.0, std::move(meaning));
+}
+
 // time.tolerance: a number in [1e-9, 0.1] or "auto" (the loose tolerance, tightened by a rewind
-// once the wall folds at the mesh scale: stepping/auto_tolerance.hpp). Under "auto", `tolerance`
+// once the wall creases at the mesh scale: stepping/auto_tolerance.hpp). Under "auto", `tolerance`
 // holds the tolerance the run starts with, so whoever reads the number reads what RKC uses first.
 Key<TimeSpec> time_tolerance(std::string meaning) {
   const Range<double> range = closed(1e-9, 1e-1).because("units of ℓ");
-  Key<TimeSpec> k = documented<TimeSpec>("tolerance", "number or `\"auto\"`", range.text() + ", or `\"auto\"`",
-                                         "`\"auto\"`", std::move(meaning));
-  k.set_default = [](TimeSpec& t) {
-    t.tolerance_auto = true;
-    t.tolerance = kAutoToleranceLoose;
-  };
-  k.read = [range](const TomlReader& r, const std::string& sec, TimeSpec& t) {
-    const toml::node* n = r.find(sec, "tolerance");
-    if (!n) return;
-    if (n->is_string()) {
-      if (n->as_string()->get() != "auto") r.fail(sec, "tolerance", "expected a number in " + range.interval() + " or \"auto\"");
-      t.tolerance_auto = true;
-      t.tolerance = kAutoToleranceLoose;
-      return;
-    }
-    const double tol = *r.number(sec, "tolerance");
-    if (!range.contains(tol)) r.fail(sec, "tolerance", range.out_of_range(tol));
-    t.tolerance = tol;
-    t.tolerance_auto = false;
-  };
-  k.to_json = [](const TimeSpec& t) { return t.tolerance_auto ? nlohmann::json("auto") : nlohmann::json(t.tolerance); };
-  k.to_toml = [](const TimeSpec& t) {
-    return std::optional<std::string>(t.tolerance_auto ? quoted("auto") : toml_number(t.tolerance));
-  };
-  return k;
+  return number_or_auto("tolerance", &TimeSpec::tolerance, &TimeSpec::tolerance_auto, range, "a number in " + range.interval(),
+                        kAutoToleranceLoose, std::move(meaning));
 }
 
 // flow.ca_v: written to TOML only as the comment on ca_s's line (one of the two is the input).
