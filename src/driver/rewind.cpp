@@ -1,8 +1,9 @@
 // time.tolerance = "auto" (stepping/auto_tolerance.hpp, docs/time-integration.md §5.8): RKC runs at
 // the loose tolerance until the wall folds at the mesh scale (the health monitors' own criterion:
 // grid-scale oscillation above its threshold) into creases (facet angles above
-// kAutoToleranceCreaseDeg); then the run starts again from t = 0 at the folded tolerance, in the same folder, as a fresh run at that tolerance would — so its outputs are that
-// run's, bit for bit, and only its cost (the discarded part, in summary.json) differs.
+// kAutoToleranceCreaseDeg); then the run starts again from t = 0 at the folded tolerance, in the
+// same folder, as a fresh run at that tolerance would — so its outputs are that run's, bit for
+// bit, and only its cost (the discarded part, in summary.json) differs.
 #include <spdlog/spdlog.h>
 
 #include <fmt/core.h>
@@ -34,10 +35,12 @@ bool Simulation::Impl::tighten_tolerance() {
     return false;
   }
   const AutoToleranceRewind discarded{st.t, st.step, rhs_evaluations(), wall_seconds()};
-  spdlog::warn("the wall creases at the mesh scale at γ̇t = {:.3g} (facet angles up to {:.0f}°): time.tolerance \"auto\" starts the run again from t = 0 at {:g} "
-               "instead of {:g}, since the error made before the folds is amplified while they form "
-               "(docs/time-integration.md §5.8); {} steps, {} evaluations and {:.1f} s are discarded",
-               discarded.t, health->last().roughness.facet_angle_max, kAutoToleranceFolded, kAutoToleranceLoose, discarded.steps, discarded.evaluations, discarded.seconds);
+  spdlog::warn("the wall creases at the mesh scale at γ̇t = {:.3g} (facet angles up to {:.0f}°): time.tolerance \"auto\" "
+               "starts the run again from t = 0 at {:g} instead of {:g}, since the error made before the folds is "
+               "amplified while they form (docs/time-integration.md §5.8); {} steps, {} evaluations and {:.1f} s are "
+               "discarded",
+               discarded.t, health->last().roughness.facet_angle_max, kAutoToleranceFolded, kAutoToleranceLoose,
+               discarded.steps, discarded.evaluations, discarded.seconds);
   // Everything a fresh run would start with; the run's cost so far stays counted.
   out.reset();
   stepper.reset();

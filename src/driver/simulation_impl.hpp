@@ -30,9 +30,9 @@
 namespace capsflow {
 
 // time.tolerance = "auto" (stepping/auto_tolerance.hpp): the loose part of a run that was discarded
-// when the wall folded at the mesh scale and the run started again from t = 0 (rewind.cpp).
+// when the wall creased at the mesh scale and the run started again from t = 0 (rewind.cpp).
 struct AutoToleranceRewind {
-  double t = 0;            // γ̇t at which the folds were seen
+  double t = 0;            // γ̇t at which the creases were seen
   long steps = 0;          // accepted steps of the discarded part
   long evaluations = 0;    // its right-hand-side evaluations (counted in the run's total)
   double seconds = 0;      // its wall time (counted in the run's total)
@@ -81,7 +81,7 @@ struct Simulation::Impl {
   void roll_back();
   void write_due_outputs();
   std::optional<StopReason> observe_health();
-  // rewind.cpp: time.tolerance = "auto" once the wall folds at the mesh scale
+  // rewind.cpp: time.tolerance = "auto" once the wall creases at the mesh scale
   bool tolerance_must_tighten() const;
   bool tighten_tolerance();  // true: the run was rewound to t = 0
   std::optional<StopReason> stop(StopReason r);

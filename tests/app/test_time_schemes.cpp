@@ -59,7 +59,7 @@ TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
   int n = 0;
   // The default tolerance is chosen for 1e-4 on D_ij on every paper case, including walls that fold
   // at the mesh scale (docs/time-integration.md §5.7–5.8); this wall folds but does not crease, so
-  // "auto" keeps 1e-5 and gives 3.5e-5 (measured 2026-12-02; 1e-5 at 1e-6).
+  // "auto" keeps 1e-5 and gives 3.5e-5 (measured 2026-12-02; time.tolerance = 1e-6 gives 1.0e-5).
   EXPECT_LT(max_d13_difference(ref, rkc, &n), 1e-4);
   EXPECT_TRUE(summary(rkc).at("time_tolerance").at("rewind").is_null());
   EXPECT_EQ(n, 21);  // every output time, t = 0, 0.1, ..., 2 (steps land on them)
@@ -235,6 +235,8 @@ TEST(TimeSchemes, AutoToleranceRewindSurvivesRestarts) {
   ASSERT_EQ(restart("1.7"), 0);
   const nlohmann::json s = summary(parts);
   EXPECT_EQ(s.at("time_tolerance").at("in_force"), 1e-6);
+  // The same step's time, carried through the checkpoint's JSON: 1e-12 allows the decimal round trip;
+  // a second rewind would have moved it past 1.5.
   EXPECT_NEAR(s.at("time_tolerance").at("rewind").at("t").get<double>(),
               summary(whole).at("time_tolerance").at("rewind").at("t").get<double>(), 1e-12);
   for (const auto& p : {whole, parts}) capsflow_test::remove_run(p);

@@ -62,7 +62,7 @@ struct TimeSpec {
   bool scheme_auto = true;       // the scheme was chosen by "auto" (for the log)
   double tolerance;              // RKC local error per step (RMS over nodes, units of ℓ; docs/time-integration.md §5.7);
                                  // under "auto" the one the run starts with
-  bool tolerance_auto = true;    // "auto": loose, rewound to t = 0 at a tight one once the wall folds (§5.8)
+  bool tolerance_auto = true;    // "auto": loose, rewound to t = 0 at a tight one once the wall creases (§5.8)
   bool dt_auto = true;           // RKC: error-controlled step; Heun: the stability-limited step
   double dt = 0;                 // fixed step (when !dt_auto)
   double dt_safety;              // fraction of the (calibrated) stability limit used by dt = "auto"
