@@ -38,6 +38,7 @@ std::optional<StopReason> Simulation::Impl::step() {
     if (auto failed = attempt_step(a)) return failed;
   } while (!a.accepted);
   consecutive_rejections = 0;
+  const double t_step_start = st.t;
   st.dt = a.dt;
   if (auto blow_up = check_step(a)) return blow_up;
   st.t = advance_time(st.t, st.dt, t_stop());
@@ -47,7 +48,7 @@ std::optional<StopReason> Simulation::Impl::step() {
   steady->add(st.t, surface_area(now), inertia_ellipsoid(now));
   const std::optional<StopReason> health_stop = observe_health();
   if (!health_stop && tolerance_must_tighten() && tighten_tolerance()) return std::nullopt;  // rewound to t = 0
-  write_due_outputs();
+  write_due_outputs(t_step_start);
   report_progress(false);
   if (health_stop) return stop(*health_stop);
   if (scene.time.stop_at_steady && steady->steady()) return stop(StopReason(StopKind::Steady));
@@ -108,7 +109,17 @@ void Simulation::Impl::roll_back() {
   stepper->forget_state();  // F(x) may belong to the discarded state
 }
 
-void Simulation::Impl::write_due_outputs() {
+void Simulation::Impl::write_due_outputs(double t_step_start) {
+  // Dense output: the output times the step passed, from its interpolant (none where it landed).
+  if (stepper->interpolates()) {
+    for (double t_out = static_cast<double>(st.next_output) * scene.output.every;
+         scene.output.every > 0 && !time_reached(t_out, st.t, st.dt);  // before the step's end (else: below)
+         t_out = static_cast<double>(st.next_output) * scene.output.every) {
+      stepper->interpolate((t_out - t_step_start) / st.dt, x_between);
+      write_output_at(t_out, x_between, false);
+      ++st.next_output;
+    }
+  }
   if (time_reached(st.t, static_cast<double>(st.next_output) * scene.output.every, st.dt)) {
     write_output();
     ++st.next_output;
@@ -147,12 +158,21 @@ std::optional<StopReason> Simulation::Impl::stop(StopReason r) {
 }
 
 double Simulation::Impl::t_stop() const {
+  if (stepper->interpolates())
+    return scene.output.checkpoint_every > 0
+               ? std::min(static_cast<double>(st.next_checkpoint) * scene.output.checkpoint_every, scene.time.t_end)
+               : scene.time.t_end;
   return std::min(static_cast<double>(st.next_output) * scene.output.every, scene.time.t_end);
 }
 
 // Each bound minus t in one expression, as the step control has always computed it: the compiler
 // may fuse k·every − t into one rounding (FMA), and results are compared bit for bit across versions.
 double Simulation::Impl::time_to_stop() const {
+  if (stepper->interpolates())
+    return scene.output.checkpoint_every > 0
+               ? std::min(static_cast<double>(st.next_checkpoint) * scene.output.checkpoint_every - st.t,
+                          scene.time.t_end - st.t)
+               : scene.time.t_end - st.t;
   return std::min(static_cast<double>(st.next_output) * scene.output.every - st.t, scene.time.t_end - st.t);
 }
 

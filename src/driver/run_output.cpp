@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/profiles.hpp"
@@ -52,28 +53,43 @@ void Simulation::Impl::update_far_checks() {
   if (const ViscosityRatioSolver* vr = dyn->viscosity_ratio_solver()) dl_far_check->update(vr->double_layer(), st.t);
 }
 
-void Simulation::Impl::write_output() {
-  const SurfaceMesh cur{st.x, ref.triangles};
+void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state) {
+  const SurfaceMesh cur{x, ref.triangles};
   last_shape = shape_diagnostics(cur);
   const auto& s = last_shape;
   last_plane_shape = in_plane_shape(cur, plane);
-  last_tank_treading = tank_treading->update(cur, st.t);
-  state_velocity();  // may throw SolverFailure: the shapes above are the state's all the same
-  update_far_checks();
-  const shell::WallEnergies en = dyn->wall().energies(st.x);
+  last_tank_treading = tank_treading->update(cur, t);
+  // Between steps: what the right-hand side carries to the next step is put back on the way out.
+  struct PutBack {
+    CapsuleDynamics& dyn;
+    std::optional<CapsuleDynamics::Carry> carry;
+    ~PutBack() {
+      if (carry) dyn.restore(std::move(*carry));
+    }
+  } put_back{*dyn, at_state ? std::nullopt : std::optional<CapsuleDynamics::Carry>(dyn->carry())};
+  // Each may throw SolverFailure: the shapes above are the output state's all the same.
+  if (at_state) {
+    state_velocity();
+    update_far_checks();
+  } else if (scene.wants_field(OutputField::Velocity)) {
+    dyn->evaluate(x, v_out, {EvaluationHint::Role::Output, 0});
+  } else {
+    dyn->solve_wall(x, {EvaluationHint::Role::Output, 0});  // loads and energies need no fluid
+  }
+  const shell::WallEnergies en = dyn->wall().energies(x);
   io::NamedFields fields;
   if (scene.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out);
   if (scene.wants_field(OutputField::Load)) fields.emplace_back("load", dyn->load());
   if (scene.wants_field(OutputField::Energy)) {
     Eigen::VectorXd Em, Eb, Esh;
-    dyn->wall().nodal_energy_maps(st.x, Em, Eb, Esh);
+    dyn->wall().nodal_energy_maps(x, Em, Eb, Esh);
     fields.emplace_back("E_membrane", Em);
     fields.emplace_back("E_bending", Eb);
     fields.emplace_back("E_shear", Esh);
   }
-  out->write_step(st.t, st.x, fields);
+  out->write_step(t, x, fields);
   out->write_profiles(profiles_of(cur));
-  io::CsvRow row = {{"t", st.t}, {"step", static_cast<double>(st.step)}, {"dt", st.dt},
+  io::CsvRow row = {{"t", t}, {"step", static_cast<double>(st.step)}, {"dt", st.dt},
                     {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
                     {"Le1", s.Le[0]}, {"Le2", s.Le[1]}, {"Le3", s.Le[2]}, {"L1", s.L[0]}, {"L2", s.L[1]}, {"L3", s.L[2]},
                     {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
@@ -96,7 +112,7 @@ void Simulation::Impl::write_output() {
   }
   output_mark = dyn->counters();
   out->append_row(row);
-  last_output_t = st.t;
+  last_output_t = t;
 }
 
 void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {

@@ -71,7 +71,7 @@ nlohmann::json Simulation::Impl::timing_table() const {
           {"seconds_per_step", steps_this_segment ? total / static_cast<double>(steps_this_segment) : 0},
           {"phases", phases}, {"cpu_seconds", cpu},
           {"iterations", {{"newton", n.newton_iterations}, {"rotation_cg", n.cg_iterations}, {"mass_cg", n.mass_cg_iterations},
-                          {"rotation_fresh_starts", n.rotation_fresh_starts}}}};
+                          {"rotation_fresh_starts", n.rotation_fresh_starts}, {"wall_solves", n.wall_solves}}}};
   if (dyn->viscosity_ratio_solver()) table["iterations"]["gmres"] = n.gmres_iterations;
   // The rotation solve by kind of evaluation: what a stage costs against a probe or an output.
   nlohmann::json by_kind = nlohmann::json::object();

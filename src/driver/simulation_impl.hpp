@@ -79,7 +79,7 @@ struct Simulation::Impl {
   std::optional<StopReason> attempt_step(StepAttempt& a);
   std::optional<StopReason> check_step(const StepAttempt& a);
   void roll_back();
-  void write_due_outputs();
+  void write_due_outputs(double t_step_start);  // after a step from t_step_start to st.t
   std::optional<StopReason> observe_health();
   // rewind.cpp: time.tolerance = "auto" once the wall creases at the mesh scale
   bool tolerance_must_tighten() const;
@@ -87,7 +87,10 @@ struct Simulation::Impl {
   std::optional<StopReason> stop(StopReason r);
   // run_output.cpp
   const Points& state_velocity();
-  void write_output();
+  void write_output() { write_output_at(st.t, st.x, true); }
+  // One output at time t of positions x: the state's (at_state), or with dense output a state
+  // interpolated inside the last step, whose wall and load are solved for it and then put back.
+  void write_output_at(double t, const Points& x, bool at_state);
   void write_checkpoint(const std::filesystem::path& path);
   // run_report.cpp
   void report_progress(bool force);
@@ -95,7 +98,9 @@ struct Simulation::Impl {
   nlohmann::json summary() const;
   void log_finish(const nlohmann::json& timing) const;
 
-  double t_stop() const;        // the next output time or t_end
+  // The next time a step must land on: the next output time or t_end; with dense output
+  // (TimeStepper::interpolates) the next checkpoint time or t_end.
+  double t_stop() const;
   double time_to_stop() const;  // t_stop() − t, as the step control computes it
   long rhs_evaluations() const { return st.rhs_evaluations + dyn->counters().evaluations; }
   double wall_seconds() const { return st.wall_seconds_before + segment_clock.seconds(); }
@@ -137,7 +142,7 @@ struct Simulation::Impl {
   InPlaneShape last_plane_shape;
   double last_tank_treading = std::numeric_limits<double>::quiet_NaN();
   RhsCounters output_mark;  // the right-hand side's counters at the last row (gmres_per_eval)
-  Points x_prev, v_out;
+  Points x_prev, v_out, x_between;  // x_between: an interpolated output state
   Eigen::VectorXd wall_prev;
 };
 

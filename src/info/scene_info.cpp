@@ -117,7 +117,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   run["threads"] = omp_get_max_threads();
   run["scheme"] = to_string(scene.time.scheme);
   run["scheme_auto"] = scene.time.scheme_auto;
-  // Steps are shortened to land on every output time, so output.every < dt forces more steps.
+  // Heun's and fixed steps are shortened to land on every output time, so output.every < dt forces more steps.
   // Every output evaluates the velocity at the state once more (the initial and the final one
   // included), and Heun refreshes ρ by power iteration every Heun::kRhoEvery steps from step 0.
   const double outputs = std::ceil(scene.time.t_end / scene.output.every - 1e-9) + 1;
@@ -136,12 +136,17 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     const int s = RkcCoefficients::stages_for(dt * rho);
     run["time_step"] = {{"kind", "fixed"}, {"dt", dt}, {"stages", s}, {"steps", steps}, {"evaluations", steps * s}};
   } else {
-    // The error-controlled step is not known in advance: the cost at typical steps.
+    // The error-controlled step is not known in advance: the cost at typical steps. Its steps land
+    // on checkpoints and t_end only; outputs between steps are interpolated (dense output), and
+    // cost an evaluation each only when they write velocities.
     nlohmann::json at = nlohmann::json::array();
+    const double landing_every =
+        scene.output.checkpoint_every > 0 ? std::min(scene.output.checkpoint_every, scene.time.t_end) : scene.time.t_end;
+    const double output_evaluations = scene.wants_field(OutputField::Velocity) ? outputs : 0;
     for (double tau : {0.01, 0.03, 0.1}) {
       const int s = RkcCoefficients::stages_for(tau * rho);
-      const double steps = estimated_steps(scene.time.t_end, scene.output.every, tau);
-      at.push_back({{"dt", tau}, {"stages", s}, {"evaluations", steps * s}});
+      const double steps = estimated_steps(scene.time.t_end, landing_every, tau);
+      at.push_back({{"dt", tau}, {"stages", s}, {"evaluations", steps * s + output_evaluations}});
     }
     run["time_step"] = {{"kind", "error_controlled"}, {"tolerance", scene.time.tolerance}, {"at", at},
                         {"tolerance_auto", scene.time.tolerance_auto}};

@@ -46,16 +46,13 @@ EvaluationKind evaluation_kind(const EvaluationHint& hint) {
   return hint.predictor.terms > 0 ? EvaluationKind::PredictedStage : EvaluationKind::Stage;
 }
 
-void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint& hint) {
-  const bool probe = hint.role == EvaluationHint::Role::Probe;
-  SolveCounts& by_kind = counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))];
+void CapsuleDynamics::wall_and_load(const Points& x, const EvaluationHint& hint, SolveCounts& by_kind, Stopwatch& clock) {
   ++by_kind.evaluations;
   shell::Wall::WarmStart warm;
   static_assert(shell::Wall::WarmStart::kSlots == StagePredictor::kSlots &&
                 shell::Wall::WarmStart::kTerms == StagePredictor::kTerms);
   const StagePredictor& p = hint.predictor;
   warm.keep_start = p.keep_start, warm.keep = p.keep, warm.terms = p.terms, warm.slot = p.slot, warm.weight = p.weight;
-  Stopwatch clock;
   for (int attempt = 0;; ++attempt) {
     wall_->set_warm_start(warm);
     warm.keep_start = -1, warm.terms = 0;  // a retry starts from the nodal normals (and keeps its solution)
@@ -80,6 +77,28 @@ void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
   if (!mass_.last_converged())
     throw SolverFailure(fmt::format("mass-matrix CG stopped at its iteration cap ({} iterations, relative residual {:.1e})",
                                     shell::LoadRecovery::kMaxIterations, mass_.last_relative_residual()));
+}
+
+void CapsuleDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
+  Stopwatch clock;
+  wall_and_load(x, hint, counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))], clock);
+  ++counters_.wall_solves;
+}
+
+CapsuleDynamics::Carry CapsuleDynamics::carry() const {
+  return {wall_->state(), q_, viscosity_ ? viscosity_->warm_start() : ViscosityRatioSolver::WarmStart{}};
+}
+
+void CapsuleDynamics::restore(Carry c) {
+  wall_->set_state(c.wall);
+  q_ = std::move(c.load);
+  if (viscosity_) viscosity_->set_warm_start(std::move(c.viscosity));
+}
+
+void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint& hint) {
+  const bool probe = hint.role == EvaluationHint::Role::Probe;
+  Stopwatch clock;
+  wall_and_load(x, hint, counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))], clock);
 
   bie_.apply(x, q_, u_);
 

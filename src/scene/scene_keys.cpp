@@ -308,7 +308,7 @@ const Section<OutputSpec>& output_keys() {
   static const Section<OutputSpec> s{
       "output", &Scene::output,
       {number("every", &OutputSpec::every, 0.1, above(0.0),
-              "output interval in γ̇t (time steps are shortened to land on it); at most " + number_text(kMaxOutputs) +
+              "output interval in γ̇t (Heun's and fixed time steps are shortened to land on it; error-controlled RKC writes it from its dense output); at most " + number_text(kMaxOutputs) +
                   " outputs to `time.t_end`"),
        choice_list("fields", &OutputSpec::fields, "nodal fields stored per output step (§3.2); a name given twice counts once"),
        number("checkpoint_every", &OutputSpec::checkpoint_every, 0.5, at_least(0.0),

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <Eigen/Eigenvalues>
 #include <limits>
+#include <stdexcept>
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -106,6 +107,7 @@ double Rkc::proposed_step(RightHandSide& f, const Points& x) {
 Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   StepReport rep;
   const long rho_before = rho_evaluations_;
+  dense_valid_ = false;  // the stages below overwrite y_n and F_n
   if (!f0_valid_) {
     f.evaluate(x, f0_, {EvaluationHint::Role::Trajectory, 0});
     f0_valid_ = true;
@@ -152,6 +154,8 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   if (rep.accepted) {
     x = yjm1_;
     std::swap(f0_, f1_);
+    dense_valid_ = true;
+    dense_tau_ = tau;
     ++steps_since_rho_;
     if (opt_.error_control) {
       double fac = rep.error > 0 ? kSafety * std::pow(rep.error, -1.0 / 3.0) : kMaxFactor;
@@ -176,6 +180,15 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   }
   rep.evaluations += rho_evaluations_ - rho_before;
   return rep;
+}
+
+void Rkc::interpolate(double theta, Points& x) const {
+  if (!dense_valid_) throw std::logic_error("Rkc::interpolate: no accepted step to interpolate in");
+  // Cubic Hermite basis on [0, 1]: values at both ends and slopes τ F at both ends.
+  const double t2 = theta * theta, t3 = t2 * theta;
+  const double h00 = 2 * t3 - 3 * t2 + 1, h01 = 3 * t2 - 2 * t3;
+  const double h10 = t3 - 2 * t2 + theta, h11 = t3 - t2;
+  x.noalias() = h00 * y0_ + h01 * yjm1_ + (h10 * dense_tau_) * f1_ + (h11 * dense_tau_) * f0_;
 }
 
 double Rkc::next_step(RightHandSide& f, const Points& x, const StepRequest& r) {

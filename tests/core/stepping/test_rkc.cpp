@@ -7,6 +7,8 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <stdexcept>
+#include <vector>
 
 #include "capsflow/core/stepping/rkc.hpp"
 #include "capsflow/core/stepping/rkc_coefficients.hpp"
@@ -140,6 +142,49 @@ TEST(Rkc, StiffLinearSystemMeetsTheToleranceAndCostGrowsLikeSqrtRho) {
   EXPECT_LT(p4, 0.6) << evals[0] << " " << evals[1];
   EXPECT_GT(p16, 0.3) << evals[0] << " " << evals[2];
   EXPECT_LT(p16, 0.6) << evals[0] << " " << evals[2];
+}
+
+// Dense output (Rkc::interpolate): the cubic Hermite interpolant of the last accepted step. It
+// reproduces both ends exactly, and inside the step its error is the step's own (local error
+// O(τ³), here on y' = −y² with y(t) = y0/(1 + y0 t)), not worse: halving τ divides it by 2³.
+TEST(Rkc, DenseOutputMatchesTheStepEndsAndIsThirdOrderInside) {
+  FunctionRhs f([](const Points& y, Points& v) { v = -y.cwiseProduct(y); });
+  Points y0(2, 3);
+  y0 << 1.0, 0.5, 2.0, 0.25, 1.5, 0.75;
+  Rkc::Options o;
+  o.tolerance = 1;  // every step accepted: the step sizes below are the test's
+  {
+    Rkc unstepped(o);
+    Points z;
+    EXPECT_THROW(unstepped.interpolate(0.5, z), std::logic_error);  // nothing to interpolate in yet
+  }
+  std::vector<double> errors;
+  for (double tau : {0.1, 0.05, 0.025}) {
+    Rkc rkc(o);
+    EXPECT_TRUE(rkc.interpolates());
+    Points y = y0, z;
+    ASSERT_TRUE(rkc.step(f, y, tau).accepted);
+    rkc.interpolate(0.0, z);
+    EXPECT_EQ(z, y0);  // h00(0) = 1 and the other weights 0 exactly
+    rkc.interpolate(1.0, z);
+    EXPECT_EQ(z, y);
+    double worst = 0;
+    for (double theta : {0.25, 0.5, 0.75}) {
+      rkc.interpolate(theta, z);
+      const Points exact = y0.array() / (1 + y0.array() * theta * tau);
+      worst = std::max(worst, (z - exact).cwiseAbs().maxCoeff());
+    }
+    errors.push_back(worst);
+  }
+  for (size_t i = 0; i + 1 < errors.size(); ++i) {
+    const double order = std::log2(errors[i] / errors[i + 1]);
+    // Local order 3 (the step's O(τ³) and the interpolant's O(τ⁴)); 2.8 leaves room for the
+    // O(τ⁴) terms at τ = 0.1 (a second-order interpolant would give 2 and fail).
+    EXPECT_GE(order, 2.8) << "errors " << errors[i] << " -> " << errors[i + 1];
+  }
+  Rkc::Options fixed;
+  fixed.error_control = false;
+  EXPECT_FALSE(Rkc(fixed).interpolates());  // a fixed time.dt lands on output times instead
 }
 
 TEST(Rkc, RejectsATooLargeStepAndKeepsTheState) {

@@ -53,6 +53,16 @@ class ViscosityRatioSolver {
   int max_iterations_seen() const { return max_iterations_seen_; }
   // Forget the warm start (e.g. after a restart from a checkpoint or a rejected step pattern).
   void reset_warm_start() { have_previous_ = false; }
+  // The next trajectory solve's warm start, to put back after a solve off the trajectory (an
+  // output between two steps).
+  struct WarmStart {
+    Eigen::VectorXd y, b;
+    bool valid = false;
+  };
+  WarmStart warm_start() const { return {previous_y_, previous_b_, have_previous_}; }
+  void set_warm_start(WarmStart w) {
+    previous_y_ = std::move(w.y), previous_b_ = std::move(w.b), have_previous_ = w.valid;
+  }
 
  private:
   double lambda_, kappa_;

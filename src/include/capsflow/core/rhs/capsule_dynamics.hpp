@@ -48,6 +48,7 @@ struct RhsCounters {
   long newton_iterations = 0, cg_iterations = 0, mass_cg_iterations = 0;
   long rotation_fresh_starts = 0;  // Newton solves retried from the nodal normals
   long gmres_iterations = 0;       // λ ≠ 1: double-layer applications of the second-kind solves
+  long wall_solves = 0;            // wall and load without the fluid (solve_wall: outputs without velocities)
   std::array<SolveCounts, kEvaluationKindNames.size()> by_kind;  // the rotation solve by EvaluationKind
 };
 
@@ -66,6 +67,21 @@ class CapsuleDynamics final : public RightHandSide {
     evaluate(x, v, {probe ? EvaluationHint::Role::Probe : EvaluationHint::Role::Trajectory, 0});
   }
 
+  // The wall's equilibrium and the load q at x without the fluid: what an output needs when it
+  // writes no velocities. Not an evaluation (counted in RhsCounters::wall_solves). Throws SolverFailure.
+  void solve_wall(const Points& x, const EvaluationHint& hint);
+
+  // What an evaluation leaves for the next one: the wall's warm start (its state), the load, the
+  // second-kind solve's warm start. An output between two steps (dense output) evaluates at an
+  // interpolated state and puts this back, so that the trajectory does not depend on the outputs.
+  struct Carry {
+    Eigen::VectorXd wall;
+    Points load;
+    ViscosityRatioSolver::WarmStart viscosity;
+  };
+  Carry carry() const;
+  void restore(Carry c);
+
   const Points& load() const { return q_; }
   shell::Wall& wall() { return *wall_; }
   const shell::Wall& wall() const { return *wall_; }
@@ -78,6 +94,9 @@ class CapsuleDynamics final : public RightHandSide {
   const Mat3& gradient() const { return L_; }
 
  private:
+  // The wall's equilibrium (retried once from the nodal normals) and M(x) q = R_s.
+  void wall_and_load(const Points& x, const EvaluationHint& hint, SolveCounts& by_kind, Stopwatch& clock);
+
   Mat3 L_;
   bool volume_correction_;
   Triangles tri_;

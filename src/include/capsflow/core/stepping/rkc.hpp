@@ -16,9 +16,13 @@
 //      when err = RMS/tolerance ≤ 1, and the next τ follows from err^(−1/3) (local error O(τ³)).
 // With error_control = false every step is accepted at the given τ (stages still from ρ).
 //
-// As a TimeStepper: the step is the controller's proposal, the last stretch before an output time
-// cut into equal steps of at most 1.2× the proposal rather than full steps and a sliver; or, without
-// error control, the fixed `fixed_dt`, shortened only where it would pass an output time.
+// As a TimeStepper: the step is the controller's proposal, the last stretch before a stop cut into
+// equal steps of at most 1.2× the proposal rather than full steps and a sliver; or, without error
+// control, the fixed `fixed_dt`, shortened only where it would pass an output time. With error
+// control it has dense output, so its stops are checkpoints and t_end, not output times: the cubic
+// Hermite interpolant of y_n, F_n, y_{n+1}, F_{n+1} (all at hand after a step), whose error
+// O(τ⁴) lies below the step's local error O(τ³) (Sommeijer, Shampine & Verwer 1998 give RKC the
+// same interpolant).
 #include <functional>
 #include <utility>
 #include <nlohmann/json_fwd.hpp>
@@ -80,12 +84,14 @@ class Rkc final : public TimeStepper {
   // evaluated there, so loads, forces and energies it holds belong to the current state.
   const Points& velocity() const { return f0_; }
   bool has_velocity() const { return f0_valid_; }
-  void forget_velocity() { f0_valid_ = false; }
+  void forget_velocity() { f0_valid_ = false, dense_valid_ = false; }
   const Options& options() const { return opt_; }
 
   // TimeStepper
   double next_step(RightHandSide& f, const Points& x, const StepRequest& r) override;
   StepAttempt attempt(RightHandSide& f, Points& x, double dt) override;
+  bool interpolates() const override { return opt_.error_control; }
+  void interpolate(double theta, Points& x) const override;
   const Points* velocity_at_state() const override { return at_state_ && f0_valid_ ? &f0_ : nullptr; }
   void forget_state() override { forget_velocity(); }
   void save(nlohmann::json& extra, Eigen::MatrixXd& matrix) const override;
@@ -119,6 +125,9 @@ class Rkc final : public TimeStepper {
   double tau_next_ = 0, tau_prev_ = 0, err_prev_ = 0;
   bool last_rejected_ = false;
   bool at_state_ = false;  // the last evaluation was F(y_{n+1}) of an accepted step: the current state
+  // Dense output of the last accepted step: y_n = y0_, F_n = f1_, y_{n+1} = yjm1_, F_{n+1} = f0_.
+  bool dense_valid_ = false;
+  double dense_tau_ = 0;
   long stages_total_ = 0, stages_max_ = 0;  // over accepted steps (all segments)
   int last_stages_ = 0;
 };

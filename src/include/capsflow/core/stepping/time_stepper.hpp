@@ -20,7 +20,8 @@ struct Scene;
 // Where the next step starts and how far it may go.
 struct StepRequest {
   double t = 0;        // current time
-  double to_stop = 0;  // time left to the next output time or t_end, whichever comes first: never passed
+  double to_stop = 0;  // time left to the next stop (an output time, or for a scheme with dense output
+                       // a checkpoint time, or t_end, whichever comes first): never passed
   long step = 0;       // accepted steps so far (the whole run, restarts included)
 };
 
@@ -39,6 +40,12 @@ class TimeStepper {
   virtual double next_step(RightHandSide& f, const Points& x, const StepRequest& r) = 0;
   // One attempt of size dt (from next_step) from x. Accepted: x ← the new state. Rejected: x as it was.
   virtual StepAttempt attempt(RightHandSide& f, Points& x, double dt) = 0;
+
+  // Dense output: a scheme that can give the state anywhere inside its last accepted step does not
+  // have to land on output times (only on checkpoints and t_end). interpolate(θ, x) is the state at
+  // t_n + θ τ, 0 < θ < 1, of the last accepted step from t_n; valid until the next attempt.
+  virtual bool interpolates() const { return false; }
+  virtual void interpolate(double theta, Points& x) const { (void)theta, (void)x; }
 
   // F at the current state when the scheme's last evaluation was there, so that what the
   // right-hand side holds (load, wall state) belongs to this state; nullptr otherwise.
