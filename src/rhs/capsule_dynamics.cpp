@@ -46,7 +46,8 @@ EvaluationKind evaluation_kind(const EvaluationHint& hint) {
   return hint.predictor.terms > 0 ? EvaluationKind::PredictedStage : EvaluationKind::Stage;
 }
 
-void CapsuleDynamics::wall_and_load(const Points& x, const EvaluationHint& hint, SolveCounts& by_kind, Stopwatch& clock) {
+void CapsuleDynamics::wall_and_load(const Points& x, const EvaluationHint& hint, Stopwatch& clock) {
+  SolveCounts& by_kind = counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))];
   ++by_kind.evaluations;
   shell::Wall::WarmStart warm;
   static_assert(shell::Wall::WarmStart::kSlots == StagePredictor::kSlots &&
@@ -81,7 +82,7 @@ void CapsuleDynamics::wall_and_load(const Points& x, const EvaluationHint& hint,
 
 void CapsuleDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
   Stopwatch clock;
-  wall_and_load(x, hint, counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))], clock);
+  wall_and_load(x, hint, clock);
   ++counters_.wall_solves;
 }
 
@@ -98,7 +99,7 @@ void CapsuleDynamics::restore(Carry c) {
 void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint& hint) {
   const bool probe = hint.role == EvaluationHint::Role::Probe;
   Stopwatch clock;
-  wall_and_load(x, hint, counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))], clock);
+  wall_and_load(x, hint, clock);
 
   bie_.apply(x, q_, u_);
 

@@ -94,8 +94,9 @@ class CapsuleDynamics final : public RightHandSide {
   const Mat3& gradient() const { return L_; }
 
  private:
-  // The wall's equilibrium (retried once from the nodal normals) and M(x) q = R_s.
-  void wall_and_load(const Points& x, const EvaluationHint& hint, SolveCounts& by_kind, Stopwatch& clock);
+  // The wall's equilibrium (retried once from the nodal normals) and M(x) q = R_s, counted under
+  // the hint's kind of evaluation.
+  void wall_and_load(const Points& x, const EvaluationHint& hint, Stopwatch& clock);
 
   Mat3 L_;
   bool volume_correction_;

@@ -7,6 +7,7 @@
 // A new scheme: one file implementing TimeStepper, its enum value and name in time_scheme.hpp,
 // and its line in make_time_stepper (time_stepper.cpp).
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <nlohmann/json_fwd.hpp>
 
@@ -45,7 +46,10 @@ class TimeStepper {
   // have to land on output times (only on checkpoints and t_end). interpolate(θ, x) is the state at
   // t_n + θ τ, 0 < θ < 1, of the last accepted step from t_n; valid until the next attempt.
   virtual bool interpolates() const { return false; }
-  virtual void interpolate(double theta, Points& x) const { (void)theta, (void)x; }
+  virtual void interpolate(double theta, Points& x) const {
+    (void)theta, (void)x;
+    throw std::logic_error("TimeStepper::interpolate: this scheme has no dense output");  // callers ask interpolates()
+  }
 
   // F at the current state when the scheme's last evaluation was there, so that what the
   // right-hand side holds (load, wall state) belongs to this state; nullptr otherwise.
