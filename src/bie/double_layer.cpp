@@ -23,10 +23,27 @@ constexpr double kMixedPrecisionAllowedError = 1e-5;
 // L2 and is taken when the step may err by 4× that.
 constexpr double kInexactFmmTolerance = 2.5e-5;
 constexpr double kInexactFmmAllowedError = 1e-4;
+// D̃[1]'s reused error term (§4.7.5): the drift a refresh may find, as a share of the tolerance (the
+// FMM's own margin, kFmmToleranceMargin); the refresh interval's bound and its growth per refresh;
+// and a guard: a node whose corner value moved by more than this (in its local frame) since the
+// refresh (a jump of the surface, not the motion of a time step) forces a refresh.
+constexpr double kIdentityDriftShare = 0.25;
+constexpr int kMaxRefreshInterval = 64;
+constexpr double kMaxIntervalGrowth = 2.0;
+constexpr double kCornerJump = 1e-3;
 
 inline void add(double* b, double c, const Mat3& m) {
   b[0] += c * m(0, 0), b[1] += c * m(1, 1), b[2] += c * m(2, 2);
   b[3] += c * m(0, 1), b[4] += c * m(0, 2), b[5] += c * m(1, 2);
+}
+inline Mat3 sym_matrix(const double* b) {
+  Mat3 m;
+  m << b[0], b[3], b[4], b[3], b[1], b[5], b[4], b[5], b[2];
+  return m;
+}
+inline void sym_store(const Mat3& m, double* b) {
+  b[0] = m(0, 0), b[1] = m(1, 1), b[2] = m(2, 2), b[3] = 0.5 * (m(0, 1) + m(1, 0)), b[4] = 0.5 * (m(0, 2) + m(2, 0)),
+  b[5] = 0.5 * (m(1, 2) + m(2, 1));
 }
 inline Vec3 sym_times(const double* b, const double* u) {
   return {b[0] * u[0] + b[3] * u[1] + b[4] * u[2], b[3] * u[0] + b[1] * u[1] + b[5] * u[2],
@@ -73,6 +90,12 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   if (lists_.ring_layers() > 0) ring_y_.resize(21 * m), ring_n_.resize(21 * m);
   src_.resize(3 * ns), src_n_.resize(3 * ns), density_.resize(6 * ns);
   build_near_pattern();
+  // The corner value is the flat polyhedron's; curved elements take the full pass on every set-up.
+  reuse_ = !surface_.curved() && opt.reuse_identity_term;
+  if (reuse_) {
+    fans_ = std::make_unique<CornerFans>(triangles, n_nodes);
+    stale_.resize(12 * static_cast<size_t>(n_nodes));
+  }
 }
 
 DoubleLayer::~DoubleLayer() = default;
@@ -123,7 +146,7 @@ void DoubleLayer::build_near_pattern() {
   }
 }
 
-void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
+void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool on_trajectory) {
   if (x.rows() != n_nodes_) throw std::invalid_argument("double layer: positions must have one row per node");
   if ((u == nullptr) != (Du == nullptr) || (u && u->rows() != n_nodes_))
     throw std::invalid_argument("double layer: set_surface's first application needs u (one row per node) and Du");
@@ -169,7 +192,21 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
   // A surface whose far field is verified takes the FMM pass even where the set-up sums directly:
   // the check is of the FMM (set-up, operators, order) that every iteration on it uses.
   const bool verify_now = opt_.verify_every > 0 && setups_ % opt_.verify_every == 0;
-  if (fmm_ && (!direct_set_up_ || verify_now)) {
+  const bool refresh = refresh_due(x, on_trajectory, verify_now);
+  if (!refresh) {
+    // D̃[1] from C and the reused E: the far-field pass is the first application's alone.
+    if (u) {
+      Du->resize(n_nodes_, 3);
+      if (fmm_) {
+        fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
+        fmm_ready_ = true;
+        fmm_->evaluate(density_.data(), Du->data());
+      } else {
+        fmm::direct_sum<fmm::Stresslet, 1, false>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(), n,
+                                                  Du->data(), threads_);
+      }
+    }
+  } else if (fmm_ && (!direct_set_up_ || verify_now)) {
     // The FMM of the three unit constants (f = e_k, n = ñ), and of u, in one call; T_ijk ñ_k is
     // symmetric in i, j.
     fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
@@ -206,14 +243,18 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
                                                    unit_far_.data(), threads_);
   }
   clock.lap(times_, Phase::BieFar);
-  if (verify_now) {
+  if (verify_now && (refresh || u)) {
     // Full double precision and the r = 0 mask: not the one-Newton pass (or the FMM) it checks.
     // D̃[1], and the first application's far field D̃[u] when it came from the same pass (Du holds
     // only the far field here); the check reports the worse of the two.
     std::vector<double> ref(6 * n);
-    fmm::direct_sum<StressletNormalPair>(src_.data(), static_cast<std::size_t>(ns), src_n_.data(), x_.data(), n, ref.data(),
-                                         threads_);
-    FarFieldCheck c = compare_far_field(unit_far_.data(), ref.data(), n, 6, setups_);
+    FarFieldCheck c;
+    c.evaluation = setups_;
+    if (refresh) {
+      fmm::direct_sum<StressletNormalPair>(src_.data(), static_cast<std::size_t>(ns), src_n_.data(), x_.data(), n, ref.data(),
+                                           threads_);
+      c = compare_far_field(unit_far_.data(), ref.data(), n, 6, setups_);
+    }
     if (u) {
       fmm::direct_sum<fmm::Stresslet>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(), n, ref.data(),
                                       threads_);
@@ -224,6 +265,7 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du) {
     clock.lap(times_, Phase::BieVerify);
   }
   assemble_near_field(x);
+  if (reuse_) reuse_identity_term(x, refresh, on_trajectory);
   if (u) add_near_field(*u, *Du);
   clock.lap(times_, Phase::BieNear);
   setup_seconds_ += total.seconds();
@@ -378,6 +420,79 @@ void DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
   clock.lap(times_, Phase::BieNear);
   apply_seconds_ += total.seconds();
   ++applications_;
+}
+
+bool DoubleLayer::refresh_due(const Points& x, bool on_trajectory, bool verify_now) {
+  if (!reuse_ || !stale_valid_) return true;
+  if (!on_trajectory) return false;
+  if (verify_now || since_refresh_ + 1 >= interval_) return true;
+  // The guard: a jump of the surface since the refresh (not a time step's motion).
+  double jump = 0;
+#pragma omp parallel for schedule(static) reduction(max : jump) num_threads(threads_)
+  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
+    const Mat3 R = local_frame(x, i), C = corner_double_layer(x, i, *fans_);
+    const Mat3 then = R * sym_matrix(&stale_[12 * static_cast<size_t>(i) + 6]) * R.transpose();
+    jump = std::max(jump, (C - then).norm());
+  }
+  return jump > kCornerJump;
+}
+
+Mat3 DoubleLayer::local_frame(const Points& x, Eigen::Index i) const {
+  // Columns: tangent (towards the fan's first p), binormal, normal (area-weighted, outward).
+  const Vec3 xi = x.row(i).transpose();
+  Vec3 n = Vec3::Zero();
+  for (int f = fans_->start[static_cast<size_t>(i)]; f < fans_->start[static_cast<size_t>(i) + 1]; ++f) {
+    const CornerFacet& F = fans_->facets[static_cast<size_t>(f)];
+    n += (x.row(F.p).transpose() - xi).cross(x.row(F.q).transpose() - xi);
+  }
+  n.normalize();
+  const Vec3 p = x.row(fans_->facets[static_cast<size_t>(fans_->start[static_cast<size_t>(i)])].p).transpose() - xi;
+  const Vec3 t = (p - p.dot(n) * n).normalized();
+  Mat3 R;
+  R.col(0) = t, R.col(1) = n.cross(t), R.col(2) = n;
+  return R;
+}
+
+void DoubleLayer::reuse_identity_term(const Points& x, bool refreshed, bool on_trajectory) {
+  // diagonal_ holds ½ I − D̃[1] from the pass on a refresh; otherwise ½ I − (C + R E Rᵀ) is imposed.
+  // stale_ per node: E in the local frame at the refresh (6), then C there, likewise (6).
+  double drift = 0;
+  const bool measure = refreshed && stale_valid_;
+#pragma omp parallel for schedule(static) reduction(max : drift) num_threads(threads_)
+  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
+    const size_t k = static_cast<size_t>(i);
+    const Mat3 R = local_frame(x, i), C = corner_double_layer(x, i, *fans_);
+    double* Dg = &diagonal_[6 * k];
+    const Mat3 reused = C + R * sym_matrix(&stale_[12 * k]) * R.transpose();
+    if (refreshed) {
+      const Mat3 D1 = 0.5 * Mat3::Identity() - sym_matrix(Dg);
+      if (measure) drift = std::max(drift, (D1 - reused).norm());
+      sym_store(R.transpose() * (D1 - C) * R, &stale_[12 * k]);
+      sym_store(R.transpose() * C * R, &stale_[12 * k + 6]);
+    } else {
+      sym_store(0.5 * Mat3::Identity() - reused, Dg);
+    }
+  }
+  if (!refreshed) {
+    if (on_trajectory) ++since_refresh_;
+    return;
+  }
+  if (measure) {
+    // The drift grows with the set-ups it spans: scale the interval to the allowance, at most
+    // doubling it per refresh.
+    const int span = since_refresh_ + 1;
+    const double allowed = kIdentityDriftShare * opt_.tolerance;
+    const double factor = drift > 0 ? std::min(kMaxIntervalGrowth, 0.7 * allowed / drift) : kMaxIntervalGrowth;
+    interval_ = std::clamp(static_cast<int>(span * factor), 1, kMaxRefreshInterval);
+    max_drift_ = std::max(max_drift_, drift);
+  }
+  stale_valid_ = true;
+  since_refresh_ = 0;
+  ++refreshes_;
+}
+
+Mat3 DoubleLayer::unit_constant_integral(Eigen::Index i) const {
+  return 0.5 * Mat3::Identity() - sym_matrix(&diagonal_[6 * static_cast<size_t>(i)]);
 }
 
 }  // namespace capsflow

@@ -43,7 +43,8 @@ ViscosityRatioSolver::ViscosityRatioSolver(const Triangles& triangles, Eigen::In
   if (!(lambda > 0) || !std::isfinite(lambda)) throw std::invalid_argument("viscosity ratio: λ must be finite and > 0");
 }
 
-ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe) {
+ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe,
+                                                bool on_trajectory) {
   const Eigen::Index n = x.rows();
   if (a.rows() != n || v1.rows() != n) throw std::invalid_argument("viscosity ratio: one row per node");
   const VectorXd m = a.rowwise().norm();  // nodal areas (|a_i| = |Σ A_e n_e/3|)
@@ -91,7 +92,7 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   }
   Y0.resize(n, 3);
   Eigen::Map<VectorXd>(Y0.data(), Y0.size()) = y;
-  D_.set_surface(x, &Y0, &DY0);
+  D_.set_surface(x, &Y0, &DY0, on_trajectory && !probe);
   VectorXd Ay = VectorXd::Zero(3 * n);
   GmresOptions go = gmres_;
   double scale = one_plus_kappa * v_norm;

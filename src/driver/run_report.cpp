@@ -112,10 +112,17 @@ nlohmann::json Simulation::Impl::summary() const {
   summary["theta"] = last_plane_shape.theta * 180 / M_PI;
   summary["tank_treading"] = std::isfinite(last_tank_treading) ? nlohmann::json(last_tank_treading) : nlohmann::json();
   if (dyn->viscosity_ratio_solver()) {
+    const DoubleLayer& D = dyn->viscosity_ratio_solver()->double_layer();
     summary["viscosity_ratio"] = {{"lambda", scene.fluid.viscosity_ratio},
                                   {"gmres_per_eval_max", st.gmres_per_eval_max},
-                                  {"double_layer_backend", to_string(dyn->viscosity_ratio_solver()->double_layer().backend())},
-                                  {"double_layer_backend_reason", dyn->viscosity_ratio_solver()->double_layer().backend_reason()}};
+                                  {"double_layer_backend", to_string(D.backend())},
+                                  {"double_layer_backend_reason", D.backend_reason()}};
+    // D̃[1]'s reused error term (docs/boundary-integral.md §4.7.5), this segment's operator.
+    if (D.reuses_identity_term())
+      summary["viscosity_ratio"]["identity_term"] = {{"set_ups", D.setups()},
+                                                     {"refreshes", D.identity_refreshes()},
+                                                     {"max_drift", D.identity_max_drift()},
+                                                     {"refresh_interval", D.identity_refresh_interval()}};
   }
   if (far_check->enabled()) summary[far_check->name()] = far_check->summary(dyn->single_layer());
   if (dl_far_check->enabled())

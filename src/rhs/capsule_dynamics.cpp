@@ -108,7 +108,8 @@ void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
   if (viscosity_ || volume_correction_) volume_gradient(x, tri_, nodal_area_normal_);
   if (viscosity_) {  // λ ≠ 1: v∞ − S[q] is the right-hand side of the second-kind equation
     clock.lap(times_, Phase::Other);
-    const ViscosityRatioStats st = viscosity_->solve(x, nodal_area_normal_, v, w_, probe);
+    const ViscosityRatioStats st =
+        viscosity_->solve(x, nodal_area_normal_, v, w_, probe, hint.role == EvaluationHint::Role::Trajectory);
     clock.lap(times_, Phase::BieSecondKind);
     counters_.gmres_iterations += st.iterations;
     if (!st.converged)

@@ -11,6 +11,7 @@ SingleLayerOptions boundary_integral_options(const Scene& s, int threads) {
   o.fmm_order = s.fluid.fmm_order;
   o.fmm_leaf_size = s.fluid.fmm_leaf_size;
   o.verify_every = s.fluid.verify_every;
+  o.reuse_identity_term = s.fluid.reuse_identity_term;
   o.threads = threads;
   return o;
 }

@@ -300,7 +300,12 @@ const Section<FluidSpec>& fluid_keys() {
        integer("max_gmres", &FluidSpec::max_gmres, 100, closed(1, 10000),
                "λ ≠ 1: iteration cap of the second-kind GMRES solve (1–3 are used per evaluation, ≤ 10 from a cold "
                "start, `docs/boundary-integral.md` §4.8.3); a solve that does not reach its tolerance stops the run "
-               "with `solver_failure`")}};
+               "with `solver_failure`"),
+       boolean("reuse_identity_term", &FluidSpec::reuse_identity_term, true,
+               "λ ≠ 1, flat facets: the double layer's D̃[1] is the polyhedron's exact corner value plus its quadrature "
+               "error, which is computed by a full far-field pass only on refreshing set-ups and reused between them, "
+               "refreshed as often as keeps its drift below a quarter of `tolerance` (`docs/boundary-integral.md` "
+               "§4.7.5); false: the full pass on every evaluation (to measure the reuse against)")}};
   return s;
 }
 

@@ -15,6 +15,15 @@
 // for the three unit constants: the identity is imposed exactly (D_h[c] = c/2), which removes the
 // O(h) error of the polyhedral vertices and every error proportional to u_i.
 //
+// D̃[1] costs a far-field pass of three densities; on flat facets it is split (§4.7.5) into the
+// polyhedron's exact value C(x_i) (corner_double_layer.hpp: local, closed form) and the quadrature's
+// error E_i = D̃[1](x_i) − C(x_i), which follows the surface slowly. E is computed by a full pass on
+// a refreshing set-up, kept in each node's local frame (so that it turns with the surface), and
+// reused with the current C on the set-ups between, whose far-field pass is then the first
+// application's alone. Each refresh measures how far the reused E had drifted from the fresh one;
+// the number of trajectory set-ups between refreshes adapts so that the drift stays below a
+// quarter of the tolerance (kIdentityDriftShare), and is 1 (every set-up) where it cannot.
+//
 // set_surface(x) does everything that depends only on the surface — the far field's points and
 // normals, the near-field terms as a sparse matrix of symmetric 3×3 blocks, D̃[1] — so that the
 // repeated applications of an iterative solve (apply(u)) cost one far-field sum and one sparse
@@ -25,6 +34,7 @@
 #include <vector>
 
 #include "capsflow/core/bie/boundary_surface.hpp"
+#include "capsflow/core/bie/corner_double_layer.hpp"
 #include "capsflow/core/bie/near_field.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
 #include "capsflow/core/bie/single_layer.hpp"
@@ -49,7 +59,9 @@ class DoubleLayer {
   // Everything that depends on the surface x only; call whenever the nodes move. Given u, also
   // Du = D_h[u] on the new surface (as apply(u, Du)) from the same far-field pass: the first
   // application of an iterative solve for the price of the set-up's own pass plus a few percent.
-  void set_surface(const Points& x, const Points* u = nullptr, Points* Du = nullptr);
+  // on_trajectory = false (a probe or an output off the solution's path) never refreshes D̃[1]'s
+  // reused error term nor counts towards its refresh, so that such set-ups do not move the run.
+  void set_surface(const Points& x, const Points* u = nullptr, Points* Du = nullptr, bool on_trajectory = true);
   // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
   // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
   // 1e-5 the direct far field sums its pairs in single precision (where the build has AVX-512),
@@ -84,9 +96,21 @@ class DoubleLayer {
   // Applications that used the cheaper inexact far field (single-precision pairs or the lower-order FMM).
   long inexact_applications() const { return inexact_applications_; }
   int inexact_fmm_order() const;  // 0 without one
+  // D̃[1](x_i) in force on the current surface (the far pass's, or C + the reused error term).
+  Mat3 unit_constant_integral(Eigen::Index i) const;
+  // The reuse of D̃[1]'s error term (flat facets only; docs/boundary-integral.md §4.7.5): whether it
+  // is on, the set-ups that computed D̃[1] by a full pass, the largest drift a refresh measured
+  // (max over nodes of the Frobenius norm of fresh − reused) and the refresh interval in force.
+  bool reuses_identity_term() const { return reuse_; }
+  long identity_refreshes() const { return refreshes_; }
+  double identity_max_drift() const { return max_drift_; }
+  int identity_refresh_interval() const { return interval_; }
 
  private:
   void build_near_pattern();
+  bool refresh_due(const Points& x, bool on_trajectory, bool verify_now);
+  Mat3 local_frame(const Points& x, Eigen::Index i) const;
+  void reuse_identity_term(const Points& x, bool refreshed, bool on_trajectory);  // after assemble_near_field
   void assemble_near_field(const Points& x);
   void fill_far_densities(const Points& u);                // density_ from u
   void add_near_field(const Points& u, Points& out) const;  // out += near blocks and diagonal times u
@@ -121,6 +145,14 @@ class DoubleLayer {
   // 1/8π. slot_ maps (node, listed element) to the blocks of its 3 vertices, in list order.
   std::vector<int> block_start_, block_col_, slot_start_, slot_;
   std::vector<double> block_, diagonal_;
+  // D̃[1]'s reuse (§4.7.5): the vertex fans, E = D̃[1] − C and C at the last refresh.
+  bool reuse_ = false;
+  std::unique_ptr<CornerFans> fans_;
+  std::vector<double> stale_;  // per node: E, then C, in the local frame at the refresh (6 + 6)
+  bool stale_valid_ = false;
+  int interval_ = 1, since_refresh_ = 0;
+  long refreshes_ = 0;
+  double max_drift_ = 0;
   std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
   FarFieldCheckLog checks_;
   PhaseTimes times_;

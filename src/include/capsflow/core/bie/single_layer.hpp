@@ -66,6 +66,9 @@ struct SingleLayerOptions {
   // double layer checks its far field of the unit constants on every verify_every-th surface
   // (DoubleLayer::set_surface).
   int verify_every = 0;
+  // The double layer only: reuse D̃[1]'s quadrature error between refreshes on flat facets
+  // (DoubleLayer, docs/boundary-integral.md §4.7.5); false: a full pass on every set-up.
+  bool reuse_identity_term = true;
 };
 
 // The far field of one apply() against its direct re-summation: the largest and the RMS node

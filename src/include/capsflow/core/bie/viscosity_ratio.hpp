@@ -42,8 +42,10 @@ class ViscosityRatioSolver {
                        const SingleLayerOptions& bie_options, const GmresOptions& gmres_options);
 
   // u on the surface x for the λ = 1 velocity v1; a = ∂V/∂x_i (volume_gradient). Returns the
-  // statistics of the solve; u is written also when it did not converge.
-  ViscosityRatioStats solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe = false);
+  // statistics of the solve; u is written also when it did not converge. on_trajectory = false
+  // (a probe, or an output between steps) leaves the double layer's reused terms alone.
+  ViscosityRatioStats solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe = false,
+                            bool on_trajectory = true);
 
   double lambda() const { return lambda_; }
   double kappa() const { return kappa_; }

@@ -76,6 +76,7 @@ struct FluidSpec {
   FluidSpec();
   double viscosity_ratio;        // λ = inner/outer viscosity; 1: the single layer alone (bie/viscosity_ratio.hpp)
   int max_gmres;                 // λ ≠ 1: iteration cap of the second-kind GMRES solve
+  bool reuse_identity_term;      // λ ≠ 1: reuse D̃[1]'s quadrature error between refreshes (§4.7.5)
   BackendRequest backend;
   double tolerance;              // far-field relative accuracy (FMM order; direct: single-precision pairs from 1e-5)
   SurfaceGeometry geometry;      // surface seen by the boundary integral (bie/single_layer.hpp)
