@@ -23,13 +23,14 @@ constexpr double kMixedPrecisionAllowedError = 1e-5;
 // L2 and is taken when the step may err by 4× that.
 constexpr double kInexactFmmTolerance = 2.5e-5;
 constexpr double kInexactFmmAllowedError = 1e-4;
-// D̃[1]'s reused error term (§4.7.5): the drift a refresh may find, as a share of the tolerance (the
-// FMM's own margin, kFmmToleranceMargin); the refresh interval's bound and its growth per refresh;
-// and a guard: a node whose corner value moved by more than this (in its local frame) since the
-// refresh (a jump of the surface, not the motion of a time step) forces a refresh.
+// D̃[1]'s reused error term (§4.7.5): the drift a reuse may have, as a share of the tolerance (the
+// FMM's own margin, kFmmToleranceMargin), of which the prediction aims at 70 %; measured drifts
+// below 1e-3 of the allowance (the far field's rounding) are taken as that much; and a guard: a
+// node whose corner value moved by more than kCornerJump in its frame since the refresh (a jump
+// of the surface, not a time step's motion) forces a refresh.
 constexpr double kIdentityDriftShare = 0.25;
-constexpr int kMaxRefreshInterval = 64;
-constexpr double kMaxIntervalGrowth = 2.0;
+constexpr double kPredictionShare = 0.7;
+constexpr double kDriftFloor = 1e-3;
 constexpr double kCornerJump = 1e-3;
 
 inline void add(double* b, double c, const Mat3& m) {
@@ -90,11 +91,13 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   if (lists_.ring_layers() > 0) ring_y_.resize(21 * m), ring_n_.resize(21 * m);
   src_.resize(3 * ns), src_n_.resize(3 * ns), density_.resize(6 * ns);
   build_near_pattern();
-  // The corner value is the flat polyhedron's; curved elements take the full pass on every set-up.
-  reuse_ = !surface_.curved() && opt.reuse_identity_term;
+  // The corner value is the flat polyhedron's: curved elements take the full pass on every set-up.
+  // So does the direct back end: its pair loop costs the pair geometry for one density as for four
+  // (measured at 5 120 elements: no gain); the FMM's cost follows the densities.
+  reuse_ = !surface_.curved() && opt.reuse_identity_term && backend_ == FarFieldBackend::Fmm;
   if (reuse_) {
     fans_ = std::make_unique<CornerFans>(triangles, n_nodes);
-    stale_.resize(12 * static_cast<size_t>(n_nodes));
+    stale_.resize(12 * static_cast<size_t>(n_nodes)), corner_.resize(15 * static_cast<size_t>(n_nodes));
   }
 }
 
@@ -192,7 +195,8 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
   // A surface whose far field is verified takes the FMM pass even where the set-up sums directly:
   // the check is of the FMM (set-up, operators, order) that every iteration on it uses.
   const bool verify_now = opt_.verify_every > 0 && setups_ % opt_.verify_every == 0;
-  const bool refresh = refresh_due(x, on_trajectory, verify_now);
+  if (reuse_) corner_geometry(x);
+  const bool refresh = refresh_due(on_trajectory, verify_now);
   if (!refresh) {
     // D̃[1] from C and the reused E: the far-field pass is the first application's alone.
     if (u) {
@@ -265,7 +269,7 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
     clock.lap(times_, Phase::BieVerify);
   }
   assemble_near_field(x);
-  if (reuse_) reuse_identity_term(x, refresh, on_trajectory);
+  if (reuse_) reuse_identity_term(refresh, on_trajectory);
   if (u) add_near_field(*u, *Du);
   clock.lap(times_, Phase::BieNear);
   setup_seconds_ += total.seconds();
@@ -422,19 +426,28 @@ void DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
   ++applications_;
 }
 
-bool DoubleLayer::refresh_due(const Points& x, bool on_trajectory, bool verify_now) {
+void DoubleLayer::corner_geometry(const Points& x) {
+  // Per node C and R (corner_), and how far the surface moved since the refresh: the largest change
+  // of a node's corner value in its local frame (E drifts with the same local geometry).
+  double change = 0;
+  const bool since = stale_valid_;
+#pragma omp parallel for schedule(static) reduction(max : change) num_threads(threads_)
+  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
+    const size_t k = static_cast<size_t>(i);
+    const Mat3 R = local_frame(x, i), C = corner_double_layer(x, i, *fans_);
+    sym_store(C, &corner_[15 * k]);
+    Eigen::Map<Mat3> frame(&corner_[15 * k + 6]);
+    frame = R;
+    if (since) change = std::max(change, (C - R * sym_matrix(&stale_[12 * k + 6]) * R.transpose()).norm());
+  }
+  corner_change_ = change;
+}
+
+bool DoubleLayer::refresh_due(bool on_trajectory, bool verify_now) const {
   if (!reuse_ || !stale_valid_) return true;
   if (!on_trajectory) return false;
-  if (verify_now || since_refresh_ + 1 >= interval_) return true;
-  // The guard: a jump of the surface since the refresh (not a time step's motion).
-  double jump = 0;
-#pragma omp parallel for schedule(static) reduction(max : jump) num_threads(threads_)
-  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
-    const Mat3 R = local_frame(x, i), C = corner_double_layer(x, i, *fans_);
-    const Mat3 then = R * sym_matrix(&stale_[12 * static_cast<size_t>(i) + 6]) * R.transpose();
-    jump = std::max(jump, (C - then).norm());
-  }
-  return jump > kCornerJump;
+  if (verify_now || corner_change_ > kCornerJump || drift_rate_ <= 0) return true;
+  return drift_rate_ * corner_change_ > kPredictionShare * kIdentityDriftShare * opt_.tolerance;
 }
 
 Mat3 DoubleLayer::local_frame(const Points& x, Eigen::Index i) const {
@@ -453,7 +466,7 @@ Mat3 DoubleLayer::local_frame(const Points& x, Eigen::Index i) const {
   return R;
 }
 
-void DoubleLayer::reuse_identity_term(const Points& x, bool refreshed, bool on_trajectory) {
+void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory) {
   // diagonal_ holds ½ I − D̃[1] from the pass on a refresh; otherwise ½ I − (C + R E Rᵀ) is imposed.
   // stale_ per node: E in the local frame at the refresh (6), then C there, likewise (6).
   double drift = 0;
@@ -461,7 +474,7 @@ void DoubleLayer::reuse_identity_term(const Points& x, bool refreshed, bool on_t
 #pragma omp parallel for schedule(static) reduction(max : drift) num_threads(threads_)
   for (Eigen::Index i = 0; i < n_nodes_; ++i) {
     const size_t k = static_cast<size_t>(i);
-    const Mat3 R = local_frame(x, i), C = corner_double_layer(x, i, *fans_);
+    const Mat3 C = sym_matrix(&corner_[15 * k]), R = Eigen::Map<const Mat3>(&corner_[15 * k + 6]);
     double* Dg = &diagonal_[6 * k];
     const Mat3 reused = C + R * sym_matrix(&stale_[12 * k]) * R.transpose();
     if (refreshed) {
@@ -473,21 +486,15 @@ void DoubleLayer::reuse_identity_term(const Points& x, bool refreshed, bool on_t
       sym_store(0.5 * Mat3::Identity() - reused, Dg);
     }
   }
-  if (!refreshed) {
-    if (on_trajectory) ++since_refresh_;
-    return;
-  }
-  if (measure) {
-    // The drift grows with the set-ups it spans: scale the interval to the allowance, at most
-    // doubling it per refresh.
-    const int span = since_refresh_ + 1;
-    const double allowed = kIdentityDriftShare * opt_.tolerance;
-    const double factor = drift > 0 ? std::min(kMaxIntervalGrowth, 0.7 * allowed / drift) : kMaxIntervalGrowth;
-    interval_ = std::clamp(static_cast<int>(span * factor), 1, kMaxRefreshInterval);
+  if (!refreshed) return;
+  if (measure && on_trajectory) {
+    // The drift per unit of corner change, from this refresh (a floor keeps rounding-level
+    // drifts from making it optimistic), at least half the last one's.
+    const double floor = kDriftFloor * kIdentityDriftShare * opt_.tolerance;
+    if (corner_change_ > 0) drift_rate_ = std::max(std::max(drift, floor) / corner_change_, 0.5 * drift_rate_);
     max_drift_ = std::max(max_drift_, drift);
   }
   stale_valid_ = true;
-  since_refresh_ = 0;
   ++refreshes_;
 }
 

@@ -116,13 +116,18 @@ nlohmann::json Simulation::Impl::summary() const {
     summary["viscosity_ratio"] = {{"lambda", scene.fluid.viscosity_ratio},
                                   {"gmres_per_eval_max", st.gmres_per_eval_max},
                                   {"double_layer_backend", to_string(D.backend())},
-                                  {"double_layer_backend_reason", D.backend_reason()}};
+                                  {"double_layer_backend_reason", D.backend_reason()},
+                                  // where the second-kind solve's time goes (this segment's operator)
+                                  {"double_layer_set_ups", D.setups()},
+                                  {"double_layer_set_up_seconds", D.setup_seconds()},
+                                  {"double_layer_applications", D.applications()},
+                                  {"double_layer_inexact_applications", D.inexact_applications()},
+                                  {"double_layer_apply_seconds", D.apply_seconds()}};
     // D̃[1]'s reused error term (docs/boundary-integral.md §4.7.5), this segment's operator.
     if (D.reuses_identity_term())
-      summary["viscosity_ratio"]["identity_term"] = {{"set_ups", D.setups()},
-                                                     {"refreshes", D.identity_refreshes()},
+      summary["viscosity_ratio"]["identity_term"] = {{"refreshes", D.identity_refreshes()},
                                                      {"max_drift", D.identity_max_drift()},
-                                                     {"refresh_interval", D.identity_refresh_interval()}};
+                                                     {"drift_per_corner_change", D.identity_drift_rate()}};
   }
   if (far_check->enabled()) summary[far_check->name()] = far_check->summary(dyn->single_layer());
   if (dl_far_check->enabled())

@@ -137,9 +137,10 @@ TEST(CornerDoubleLayer, IsTheLimitOfTheDoubleLayersUnitConstantIntegral) {
 
 namespace {
 // An a/b = 1.5 spheroid of icosphere nodes, and the same surface after `move`: the operator with the
-// reuse on, set up twice on the first (two refreshes: the interval grows to 2), then once on the
-// moved surface; D̃[1] there against a full pass, and against keeping the first surface's D̃[1]
-// (what reusing it whole, without C and the frames, would give).
+// reuse on, set up on the first surface and on a copy stretched by 1e-5 (two refreshes: the second
+// measures the drift per unit corner change), then on that copy moved; D̃[1] there against a
+// full pass, and against keeping the first surface's D̃[1] (what reusing it whole, without C and
+// the frames, would give). Tolerance 1e-4: a quarter of it allows the moves below to reuse.
 struct ReuseCheck {
   double reused = 0, whole = 0;
   long refreshes = 0;
@@ -148,12 +149,18 @@ ReuseCheck reuse_after(const std::function<Points(const Points&)>& move) {
   const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 3);
   Points x = m.vertices;
   x.col(2) *= 1.5;
-  const Points y = move(x);
+  Points x1 = x;
+  x1.col(0) *= 1 + 1e-5;
+  const Points y = move(x1);
   SingleLayerOptions opt;
-  opt.backend = BackendRequest::Direct;
+  opt.backend = BackendRequest::Fmm;  // the reuse is the FMM back end's
+  opt.fmm_order = 12;                 // far below the drifts measured here, whatever the tolerance
+  opt.tolerance = 1e-4;
   DoubleLayer D(m.triangles, m.num_nodes(), opt);
+  EXPECT_TRUE(D.reuses_identity_term());
   D.set_surface(x);
-  D.set_surface(x);
+  D.set_surface(x1);
+  EXPECT_GT(D.identity_drift_rate(), 0);
   std::vector<Mat3> before(static_cast<size_t>(x.rows()));
   for (Eigen::Index i = 0; i < x.rows(); ++i) before[static_cast<size_t>(i)] = D.unit_constant_integral(i);
   D.set_surface(y);
@@ -171,8 +178,7 @@ ReuseCheck reuse_after(const std::function<Points(const Points&)>& move) {
 }  // namespace
 
 // A rigid motion: E turns with the local frames, C is exact, so the reused D̃[1] is the full pass's
-// up to the far-field pairs' one-Newton rsqrt (≤ 6e-9 relative per pair, which the rotated pairs
-// do not share).
+// up to the FMM's error at order 12, which the rotated tree does not share.
 TEST(DoubleLayerIdentityReuse, FollowsARigidMotion) {
   const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
   const ReuseCheck c = reuse_after([&](const Points& x) {

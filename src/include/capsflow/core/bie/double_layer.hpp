@@ -20,9 +20,10 @@
 // error E_i = D̃[1](x_i) − C(x_i), which follows the surface slowly. E is computed by a full pass on
 // a refreshing set-up, kept in each node's local frame (so that it turns with the surface), and
 // reused with the current C on the set-ups between, whose far-field pass is then the first
-// application's alone. Each refresh measures how far the reused E had drifted from the fresh one;
-// the number of trajectory set-ups between refreshes adapts so that the drift stays below a
-// quarter of the tolerance (kIdentityDriftShare), and is 1 (every set-up) where it cannot.
+// application's alone. Each refresh measures how far the reused E had drifted from the fresh one,
+// per unit change of the nodes' corner values since the last refresh; a trajectory set-up refreshes
+// when that rate times the change so far would exceed a quarter of the tolerance
+// (kIdentityDriftShare).
 //
 // set_surface(x) does everything that depends only on the surface — the far field's points and
 // normals, the near-field terms as a sparse matrix of symmetric 3×3 blocks, D̃[1] — so that the
@@ -100,17 +101,19 @@ class DoubleLayer {
   Mat3 unit_constant_integral(Eigen::Index i) const;
   // The reuse of D̃[1]'s error term (flat facets only; docs/boundary-integral.md §4.7.5): whether it
   // is on, the set-ups that computed D̃[1] by a full pass, the largest drift a refresh measured
-  // (max over nodes of the Frobenius norm of fresh − reused) and the refresh interval in force.
+  // (max over nodes of the Frobenius norm of fresh − reused) and the drift rate in force.
   bool reuses_identity_term() const { return reuse_; }
   long identity_refreshes() const { return refreshes_; }
   double identity_max_drift() const { return max_drift_; }
-  int identity_refresh_interval() const { return interval_; }
+  // The drift per unit change of a corner value that the last refreshes measured (0: none yet).
+  double identity_drift_rate() const { return drift_rate_; }
 
  private:
   void build_near_pattern();
-  bool refresh_due(const Points& x, bool on_trajectory, bool verify_now);
+  void corner_geometry(const Points& x);  // corner_ and corner_change_ on a new surface
+  bool refresh_due(bool on_trajectory, bool verify_now) const;
   Mat3 local_frame(const Points& x, Eigen::Index i) const;
-  void reuse_identity_term(const Points& x, bool refreshed, bool on_trajectory);  // after assemble_near_field
+  void reuse_identity_term(bool refreshed, bool on_trajectory);  // after assemble_near_field
   void assemble_near_field(const Points& x);
   void fill_far_densities(const Points& u);                // density_ from u
   void add_near_field(const Points& u, Points& out) const;  // out += near blocks and diagonal times u
@@ -148,9 +151,10 @@ class DoubleLayer {
   // D̃[1]'s reuse (§4.7.5): the vertex fans, E = D̃[1] − C and C at the last refresh.
   bool reuse_ = false;
   std::unique_ptr<CornerFans> fans_;
-  std::vector<double> stale_;  // per node: E, then C, in the local frame at the refresh (6 + 6)
+  std::vector<double> stale_;   // per node: E, then C, in the local frame at the refresh (6 + 6)
+  std::vector<double> corner_;  // per node on the current surface: C (6), the local frame R (9)
   bool stale_valid_ = false;
-  int interval_ = 1, since_refresh_ = 0;
+  double corner_change_ = 0, drift_rate_ = 0;  // since the refresh; drift per unit of it
   long refreshes_ = 0;
   double max_drift_ = 0;
   std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
