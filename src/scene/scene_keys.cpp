@@ -302,10 +302,10 @@ const Section<FluidSpec>& fluid_keys() {
                "start, `docs/boundary-integral.md` §4.8.3); a solve that does not reach its tolerance stops the run "
                "with `solver_failure`"),
        boolean("reuse_identity_term", &FluidSpec::reuse_identity_term, true,
-               "λ ≠ 1, flat facets: the double layer's D̃[1] is the polyhedron's exact corner value plus its quadrature "
-               "error, which is computed by a full far-field pass only on refreshing set-ups and reused between them, "
-               "refreshed as often as keeps its drift below a quarter of `tolerance` (`docs/boundary-integral.md` "
-               "§4.7.5); false: the full pass on every evaluation (to measure the reuse against)")}};
+               "λ ≠ 1, flat facets, FMM back end: the double layer's D̃[1] is the polyhedron's exact corner value plus "
+               "its quadrature error, which is computed by a full far-field pass only on refreshing set-ups and reused "
+               "between them, refreshed as often as keeps its measured drift below a quarter of `tolerance` "
+               "(`docs/boundary-integral.md` §4.7.5); false: the full pass on every evaluation (to measure the reuse against)")}};
   return s;
 }
 

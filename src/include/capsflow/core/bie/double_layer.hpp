@@ -15,15 +15,15 @@
 // for the three unit constants: the identity is imposed exactly (D_h[c] = c/2), which removes the
 // O(h) error of the polyhedral vertices and every error proportional to u_i.
 //
-// D̃[1] costs a far-field pass of three densities; on flat facets it is split (§4.7.5) into the
-// polyhedron's exact value C(x_i) (corner_double_layer.hpp: local, closed form) and the quadrature's
-// error E_i = D̃[1](x_i) − C(x_i), which follows the surface slowly. E is computed by a full pass on
-// a refreshing set-up, kept in each node's local frame (so that it turns with the surface), and
-// reused with the current C on the set-ups between, whose far-field pass is then the first
-// application's alone. Each refresh measures how far the reused E had drifted from the fresh one,
-// per unit change of the nodes' corner values since the last refresh; a trajectory set-up refreshes
-// when that rate times the change so far would exceed a quarter of the tolerance
-// (kIdentityDriftShare).
+// D̃[1] costs a far-field pass of three densities; on flat facets with the FMM back end it is
+// split (§4.7.5) into the polyhedron's exact value C(x_i) (corner_double_layer.hpp: local, closed
+// form) and the quadrature's error E_i = D̃[1](x_i) − C(x_i), which follows the surface slowly. E
+// is computed by a full pass on a refreshing set-up, kept in each node's local frame (so that it
+// turns with the surface), and reused with the current C on the set-ups between, whose far-field
+// pass is then the first application's alone. Each refresh measures how far the reused E had
+// drifted from the fresh one, per unit change of the nodes' corner values since the last refresh;
+// a trajectory set-up refreshes when that rate times the change so far would exceed 70 % of a
+// quarter of the tolerance (kIdentityDriftShare).
 //
 // set_surface(x) does everything that depends only on the surface — the far field's points and
 // normals, the near-field terms as a sparse matrix of symmetric 3×3 blocks, D̃[1] — so that the
@@ -99,9 +99,9 @@ class DoubleLayer {
   int inexact_fmm_order() const;  // 0 without one
   // D̃[1](x_i) in force on the current surface (the far pass's, or C + the reused error term).
   Mat3 unit_constant_integral(Eigen::Index i) const;
-  // The reuse of D̃[1]'s error term (flat facets only; docs/boundary-integral.md §4.7.5): whether it
-  // is on, the set-ups that computed D̃[1] by a full pass, the largest drift a refresh measured
-  // (max over nodes of the Frobenius norm of fresh − reused) and the drift rate in force.
+  // The reuse of D̃[1]'s error term (flat facets, FMM back end; docs/boundary-integral.md §4.7.5):
+  // whether it is on, the set-ups that computed D̃[1] by a full pass, and the largest drift a
+  // refresh measured (max over nodes of the Frobenius norm of fresh − reused).
   bool reuses_identity_term() const { return reuse_; }
   long identity_refreshes() const { return refreshes_; }
   double identity_max_drift() const { return max_drift_; }
