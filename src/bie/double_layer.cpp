@@ -199,16 +199,12 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
   const bool refresh = refresh_due(on_trajectory, verify_now);
   if (!refresh) {
     // D̃[1] from C and the reused E: the far-field pass is the first application's alone.
+    // Reuse implies the FMM back end.
     if (u) {
       Du->resize(n_nodes_, 3);
-      if (fmm_) {
-        fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
-        fmm_ready_ = true;
-        fmm_->evaluate(density_.data(), Du->data());
-      } else {
-        fmm::direct_sum<fmm::Stresslet, 1, false>(src_.data(), static_cast<std::size_t>(ns), density_.data(), x_.data(), n,
-                                                  Du->data(), threads_);
-      }
+      fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
+      fmm_ready_ = true;
+      fmm_->evaluate(density_.data(), Du->data());
     }
   } else if (fmm_ && (!direct_set_up_ || verify_now)) {
     // The FMM of the three unit constants (f = e_k, n = ñ), and of u, in one call; T_ijk ñ_k is
@@ -444,9 +440,9 @@ void DoubleLayer::corner_geometry(const Points& x) {
 }
 
 bool DoubleLayer::refresh_due(bool on_trajectory, bool verify_now) const {
-  if (!reuse_ || !stale_valid_) return true;
+  if (!reuse_ || !stale_valid_ || corner_change_ > kCornerJump) return true;
   if (!on_trajectory) return false;
-  if (verify_now || corner_change_ > kCornerJump || drift_rate_ <= 0) return true;
+  if (verify_now || drift_rate_ <= 0) return true;
   return drift_rate_ * corner_change_ > kPredictionShare * kIdentityDriftShare * opt_.tolerance;
 }
 

@@ -117,3 +117,38 @@ TEST(ViscosityRatio, RunsReportTheFlowPlaneObservablesAndTheSolveEffort) {
     capsflow_test::remove_run(out);
   }
 }
+
+// D̃[1]'s reuse in a run (docs/boundary-integral.md §4.7.5; on flat facets with the FMM back end,
+// forced here on a 1 280-element GSMB sphere, RKC): at fluid.tolerance = 1e-4 (an allowance of
+// 2.5e-5 in D̃[1]) most trajectory set-ups reuse; the observables stay with the full pass's, and
+// outputs between steps (a probe-like set-up off the trajectory) do not move the run.
+TEST(ViscosityRatio, ReusedIdentityTermKeepsTheObservablesAndOutputsDoNotMoveTheRun) {
+  const std::string base = "--set mesh.level=3 --set mesh.shape=sphere --set flow.type=simple_shear --set fluid.backend=fmm "
+                           "--set fluid.tolerance=1e-4 --set fluid.viscosity_ratio=5 --set time.t_end=0.5 "
+                           "--set 'output.fields=[\"velocity\"]' ";  // an output between steps is then an evaluation
+  const fs::path reuse = scratch("reuse"), full = scratch("full"), sparse = scratch("reuse-sparse-outputs");
+  ASSERT_EQ(run(base + "--set output.every=0.1", reuse), 0) << slurp(reuse.string() + ".log");
+  ASSERT_EQ(run(base + "--set output.every=0.1 --set fluid.reuse_identity_term=false", full), 0) << slurp(full.string() + ".log");
+  ASSERT_EQ(run(base + "--set output.every=0.25", sparse), 0) << slurp(sparse.string() + ".log");
+  const auto s = summary(reuse);
+  ASSERT_EQ(s.at("scheme"), "rkc");
+  const auto& id = s.at("viscosity_ratio").at("identity_term");
+  const long set_ups = s.at("viscosity_ratio").at("double_layer_set_ups").get<long>();
+  // Measured 42 refreshes of 111 set-ups: the test sees the reuse (a refresh on every trajectory
+  // set-up would leave only the 5 probes).
+  EXPECT_LT(id.at("refreshes").get<long>(), set_ups / 2);
+  EXPECT_FALSE(summary(full).at("viscosity_ratio").contains("identity_term"));
+  const auto a = columns(reuse), b = columns(full), c = columns(sparse);
+  ASSERT_EQ(a.at("t").size(), 6u);
+  ASSERT_EQ(b.at("t").size(), 6u);
+  for (const char* k : {"D12", "D13", "D23"})
+    for (size_t r = 0; r < 6; ++r) {
+      // The reused D̃[1] errs by ≤ 2.5e-5 per node; D_ij moved by 8.7e-10 (measured, the same steps).
+      // 1e-7: above that by 100×, below the RKC tolerance's 1e-5 by 100×.
+      EXPECT_NEAR(std::stod(a.at(k)[r]), std::stod(b.at(k)[r]), 1e-7) << k << " row " << r;
+    }
+  // t = 0.5 is a step's end in both: bit for bit (the shortest round-trip print) whatever the outputs.
+  ASSERT_EQ(c.at("t").back(), a.at("t").back());
+  for (const char* k : {"D12", "D13", "D23", "L1", "L2", "L3"}) EXPECT_EQ(c.at(k).back(), a.at(k).back()) << k;
+  for (const auto& d : {reuse, full, sparse}) capsflow_test::remove_run(d);
+}

@@ -218,3 +218,26 @@ TEST(DoubleLayerIdentityReuse, AJumpOfTheSurfaceForcesARefresh) {
   EXPECT_EQ(c.refreshes, 3);
   EXPECT_LT(c.reused, 1e-12);  // the full pass itself
 }
+
+// A set-up off the trajectory (a probe, an output between steps) never refreshes, even where a
+// trajectory set-up on the same surface does: at tolerance 1e-6 (an allowance of 2.5e-7) a 1e-3
+// stretch calls for a refresh (its drift is 1.2e-6: ErrsByTheChangeOfTheQuadratureErrorOnly).
+TEST(DoubleLayerIdentityReuse, ASetUpOffTheTrajectoryNeverRefreshes) {
+  const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 3);
+  Points x = m.vertices;
+  x.col(2) *= 1.5;
+  Points x1 = x, y = x;
+  x1.col(0) *= 1 + 1e-5;
+  y.col(0) *= 1.001;
+  SingleLayerOptions opt;
+  opt.backend = BackendRequest::Fmm;
+  opt.fmm_order = 12;
+  DoubleLayer D(m.triangles, m.num_nodes(), opt);
+  D.set_surface(x);
+  D.set_surface(x1);
+  ASSERT_EQ(D.identity_refreshes(), 2);
+  D.set_surface(y, nullptr, nullptr, false);
+  EXPECT_EQ(D.identity_refreshes(), 2);
+  D.set_surface(y);
+  EXPECT_EQ(D.identity_refreshes(), 3);
+}
