@@ -60,8 +60,9 @@ class DoubleLayer {
   // Everything that depends on the surface x only; call whenever the nodes move. Given u, also
   // Du = D_h[u] on the new surface (as apply(u, Du)) from the same far-field pass: the first
   // application of an iterative solve for the price of the set-up's own pass plus a few percent.
-  // on_trajectory = false (a probe or an output off the solution's path) never refreshes D̃[1]'s
-  // reused error term nor counts towards its refresh, so that such set-ups do not move the run.
+  // on_trajectory = false (a probe or an output off the solution's path) neither refreshes D̃[1]'s
+  // reused error term (unless the surface jumped) nor measures its drift, so that such set-ups do
+  // not move the run.
   void set_surface(const Points& x, const Points* u = nullptr, Points* Du = nullptr, bool on_trajectory = true);
   // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
   // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
