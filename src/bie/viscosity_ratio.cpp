@@ -44,7 +44,7 @@ ViscosityRatioSolver::ViscosityRatioSolver(const Triangles& triangles, Eigen::In
 }
 
 ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe,
-                                                bool on_trajectory) {
+                                                bool on_trajectory, const Prediction& prediction) {
   const Eigen::Index n = x.rows();
   if (a.rows() != n || v1.rows() != n) throw std::invalid_argument("viscosity ratio: one row per node");
   const VectorXd m = a.rowwise().norm();  // nodal areas (|a_i| = |Σ A_e n_e/3|)
@@ -81,12 +81,26 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   u.resize(n, 3);
   if (v_norm == 0) {  // no flow, no load: u = 0 (the next solve sets the surface up)
     u.setZero();
-    if (!probe) previous_y_.setZero(3 * n), have_previous_ = true;
+    if (!probe) previous_y_.setZero(3 * n), previous_b_.setZero(3 * n), have_previous_ = true;
     return st;
   }
   const bool warm = have_previous_ && previous_y_.size() == 3 * n;
+  const int slots = Prediction::kSlots;
+  if (!probe && warm && prediction.keep_start >= 0 && prediction.keep_start < slots)
+    kept_y_[prediction.keep_start] = previous_y_, kept_b_[prediction.keep_start] = previous_b_;
+  bool predicted = !probe && prediction.terms > 0 && prediction.terms <= Prediction::kTerms;
+  for (int k = 0; predicted && k < prediction.terms; ++k) {
+    const int s = prediction.slot[k];
+    predicted = s >= 0 && s < slots && kept_y_[s].size() == 3 * n;
+  }
   VectorXd y = b;
-  if (warm) {  // the previous solution, moved by the change of the right-hand side (R ≈ I)
+  if (predicted) {  // the stages' combination of kept solutions, moved by the change of b likewise
+    for (int k = 0; k < prediction.terms; ++k) {
+      const int s = prediction.slot[k];
+      y += prediction.weight[k] * (kept_y_[s] - kept_b_[s]);
+    }
+    y -= project(y);
+  } else if (warm) {  // the previous solution, moved by the change of the right-hand side (R ≈ I)
     y = previous_y_ + (b - previous_b_);
     y -= project(y);
   }
@@ -105,10 +119,13 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   const GmresResult r = gmres(R, b, y, w, scale, go, &Ay);
   st.iterations = r.iterations;
   st.residual = r.residual / (one_plus_kappa * v_norm);  // relative to the solution's scale in both modes
+  st.initial_residual = r.initial_residual / (one_plus_kappa * v_norm);
   st.converged = r.converged;
+  st.predicted = predicted;
   const VectorXd sol = Pv - kappa_over * project(Ay) + y;
   Eigen::Map<VectorXd>(u.data(), u.size()) = sol;
   if (!probe) previous_y_ = y, previous_b_ = b, have_previous_ = true;
+  if (!probe && r.converged && prediction.keep >= 0 && prediction.keep < slots) kept_y_[prediction.keep] = y, kept_b_[prediction.keep] = b;
   ++solves_;
   total_iterations_ += r.iterations;
   max_iterations_seen_ = std::max(max_iterations_seen_, r.iterations);

@@ -77,9 +77,10 @@ nlohmann::json Simulation::Impl::timing_table() const {
   nlohmann::json by_kind = nlohmann::json::object();
   for (std::size_t k = 0; k < kEvaluationKindNames.size(); ++k) {
     const SolveCounts& c = n.by_kind[k];
-    if (c.evaluations > 0)
-      by_kind[kEvaluationKindNames[k]] = {{"evaluations", c.evaluations}, {"newton", c.newton_iterations},
-                                           {"rotation_cg", c.cg_iterations}};
+    if (c.evaluations == 0) continue;
+    by_kind[kEvaluationKindNames[k]] = {{"evaluations", c.evaluations}, {"newton", c.newton_iterations},
+                                         {"rotation_cg", c.cg_iterations}};
+    if (dyn->viscosity_ratio_solver()) by_kind[kEvaluationKindNames[k]]["gmres"] = c.gmres_iterations;
   }
   table["iterations"]["by_evaluation"] = by_kind;
   return table;
@@ -155,6 +156,11 @@ void Simulation::Impl::log_finish(const nlohmann::json& timing) const {
     }
   }
   if (!per_kind.empty()) spdlog::info("rotation Newton / CG per evaluation (evaluations):{}", per_kind);
+  std::string gmres_per_kind;  // λ ≠ 1 (outputs left out: their count includes wall-only solves)
+  for (const auto& [k, c] : timing["iterations"]["by_evaluation"].items())
+    if (c.contains("gmres") && k != "output")
+      gmres_per_kind += fmt::format("  {} {:.2f}", k, c["gmres"].get<double>() / c["evaluations"].get<double>());
+  if (!gmres_per_kind.empty()) spdlog::info("GMRES iterations per evaluation:{}", gmres_per_kind);
   spdlog::info("D12 {:.4f}  D13 {:.4f}  D23 {:.4f}  L {:.3f} {:.3f} {:.3f}  Le {:.3f} {:.3f} {:.3f}", s.D.D12, s.D.D13, s.D.D23,
                s.L[0], s.L[1], s.L[2], s.Le[0], s.Le[1], s.Le[2]);
 }

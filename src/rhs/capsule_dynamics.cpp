@@ -108,10 +108,19 @@ void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
   if (viscosity_ || volume_correction_) volume_gradient(x, tri_, nodal_area_normal_);
   if (viscosity_) {  // λ ≠ 1: v∞ − S[q] is the right-hand side of the second-kind equation
     clock.lap(times_, Phase::Other);
-    const ViscosityRatioStats st =
-        viscosity_->solve(x, nodal_area_normal_, v, w_, probe, hint.role == EvaluationHint::Role::Trajectory);
+    const bool on_trajectory = hint.role == EvaluationHint::Role::Trajectory;
+    ViscosityRatioSolver::Prediction prediction;  // the stage predictor's, as the rotation solve has it
+    static_assert(ViscosityRatioSolver::Prediction::kSlots == StagePredictor::kSlots &&
+                  ViscosityRatioSolver::Prediction::kTerms == StagePredictor::kTerms);
+    if (on_trajectory) {
+      const StagePredictor& p = hint.predictor;
+      prediction.keep_start = p.keep_start, prediction.keep = p.keep, prediction.terms = p.terms;
+      prediction.slot = p.slot, prediction.weight = p.weight;
+    }
+    const ViscosityRatioStats st = viscosity_->solve(x, nodal_area_normal_, v, w_, probe, on_trajectory, prediction);
     clock.lap(times_, Phase::BieSecondKind);
     counters_.gmres_iterations += st.iterations;
+    counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))].gmres_iterations += st.iterations;
     if (!st.converged)
       throw SolverFailure(fmt::format("viscosity-ratio GMRES did not converge (relative residual {:.1e} after {} "
                                       "iterations)", st.residual, st.iterations));

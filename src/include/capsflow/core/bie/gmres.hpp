@@ -31,6 +31,7 @@ struct GmresOptions {
 struct GmresResult {
   int iterations = 0;      // operator applications, the initial residual's excluded
   double residual = 0;     // ‖b − A x‖ at exit (the recurrence's value; true residual at restarts)
+  double initial_residual = 0;  // ‖b − A x0‖: how good the initial guess was
   bool converged = false;
 };
 

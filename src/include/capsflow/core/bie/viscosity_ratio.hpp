@@ -20,11 +20,15 @@
 // The flux of u is (1 + κ) times that of v1 (in the continuum both vanish).
 //
 // GMRES starts from the last trajectory solve's y plus the change of the right-hand side since
-// (R is close to I; docs/boundary-integral.md §4.8.3) and stops when the residual is below
+// (R is close to I; docs/boundary-integral.md §4.8.3) — or, inside a step whose stages are
+// combinations of earlier ones (Prediction), from the same combination of their solutions, moved
+// likewise — and stops when the residual is below
 // tolerance × (1 + κ) ‖v1‖ (nodal-area RMS): the error in u is then about tolerance × ‖v1‖.
 // A probe (a point off the trajectory, y + δw of the spectral-radius power iteration, which
 // differences two velocities δ apart) reduces its initial residual by the tolerance instead — so
 // that the *difference* is accurate to it — and leaves the warm start alone.
+#include <array>
+
 #include "capsflow/core/bie/double_layer.hpp"
 #include "capsflow/core/bie/gmres.hpp"
 
@@ -33,7 +37,21 @@ namespace capsflow {
 struct ViscosityRatioStats {
   int iterations = 0;    // double-layer applications by GMRES in the last solve
   double residual = 0;   // its final residual relative to (1 + κ)‖v1‖
+  double initial_residual = 0;  // its initial guess's, likewise
   bool converged = true;
+  bool predicted = false;  // started from a Prediction's combination of kept solutions
+};
+
+// The warm start across the stages of a step (the time stepper's stage predictor, handed on by
+// the right-hand side; docs/boundary-integral.md §4.8.3): before solving, keep_start keeps the
+// last trajectory solve's solution in that slot; after a converged solve, keep keeps this one's;
+// terms > 0 says this surface's state ≈ Σ weight_k × (the state solved in slot_k), Σ weight = 1,
+// and GMRES starts from Σ weight_k y_k moved by b − Σ weight_k b_k (R ≈ I).
+struct ViscosityRatioPrediction {
+  static constexpr int kSlots = 4, kTerms = 4;
+  int keep_start = -1, keep = -1, terms = 0;
+  std::array<int, kTerms> slot{};
+  std::array<double, kTerms> weight{};
 };
 
 class ViscosityRatioSolver {
@@ -41,11 +59,14 @@ class ViscosityRatioSolver {
   ViscosityRatioSolver(const Triangles& triangles, Eigen::Index n_nodes, double lambda,
                        const SingleLayerOptions& bie_options, const GmresOptions& gmres_options);
 
+  using Prediction = ViscosityRatioPrediction;
+
+
   // u on the surface x for the λ = 1 velocity v1; a = ∂V/∂x_i (volume_gradient). Returns the
   // statistics of the solve; u is written also when it did not converge. on_trajectory = false
   // (a probe, or an output between steps) leaves the double layer's reused terms alone.
   ViscosityRatioStats solve(const Points& x, const Points& a, const Points& v1, Points& u, bool probe = false,
-                            bool on_trajectory = true);
+                            bool on_trajectory = true, const Prediction& prediction = {});
 
   double lambda() const { return lambda_; }
   double kappa() const { return kappa_; }
@@ -72,6 +93,7 @@ class ViscosityRatioSolver {
   GmresOptions gmres_;
   Eigen::VectorXd previous_y_, previous_b_;
   bool have_previous_ = false;
+  std::array<Eigen::VectorXd, Prediction::kSlots> kept_y_, kept_b_;  // the stages' solutions (Prediction)
   long solves_ = 0, total_iterations_ = 0;
   int max_iterations_seen_ = 0;
 };

@@ -32,6 +32,7 @@ namespace capsflow {
 // What the rotation solve did for one kind of evaluation (RhsCounters::by_kind).
 struct SolveCounts {
   long evaluations = 0, newton_iterations = 0, cg_iterations = 0;
+  long gmres_iterations = 0;  // the λ ≠ 1 solve's (double-layer applications after its set-up)
 };
 
 // The kinds of evaluation counted apart, from the hint: the step's start state (stage 0), a later
