@@ -13,10 +13,19 @@ namespace {
 constexpr double kMixedPrecisionTolerance = 1e-5;
 // The stresslet FMM's crossover at the FMM tolerance the double layer asks for.
 std::size_t stresslet_crossover(double tolerance) {
-  return fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance);
+  return fmm::direct_crossover<fmm::Stresslet>(double_layer_fmm_tolerance(tolerance));
 }
 bool below_crossover(double n_src, double n_trg, double crossover) { return n_src * n_trg < crossover * crossover; }
 }  // namespace
+
+double double_layer_fmm_tolerance(double l2_allowed, double max_allowed) {
+  for (const DoubleLayerOrderRow& row : kDoubleLayerOrders)
+    if (2 * row.l2 <= l2_allowed && row.max <= max_allowed) {
+      const double t = fmm::tolerance_for_order<fmm::Stresslet>(row.order);
+      if (t > 0) return t;
+    }
+  return l2_allowed;
+}
 
 const SingleLayerCrossoverRow& single_layer_crossover(double tolerance) {
   constexpr int n = sizeof(kSingleLayerCrossover) / sizeof(kSingleLayerCrossover[0]);

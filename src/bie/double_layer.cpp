@@ -19,9 +19,9 @@ constexpr double kInv8Pi = fmm::Stresslet::scale();
 // fmm/direct_sum_mixed.hpp, tests/fmm/test_kernels.cpp); taken when the caller allows 100× that
 // relative to the input (the operator's norm is O(1)).
 constexpr double kMixedPrecisionAllowedError = 1e-5;
-// With the FMM, inexact steps take a second FMM of a lower order: it asks for 2.5e-5 in relative
-// L2 and is taken when the step may err by 4× that.
-constexpr double kInexactFmmTolerance = 2.5e-5;
+// With the FMM, inexact steps take a second FMM of a lower order, taken when the step may err by
+// 1e-4 relative to the density: the order that keeps a quarter of that in L2 and all of it in
+// max (double_layer_fmm_tolerance; p = 7, measured 1.4e-6 and 7.3e-6).
 constexpr double kInexactFmmAllowedError = 1e-4;
 // D̃[1]'s reused error term (§4.7.5): the drift a reuse may have, as a share of the tolerance (the
 // FMM's own margin, kFmmToleranceMargin), of which the prediction aims at 70 %; measured drifts
@@ -72,14 +72,15 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   backend_ = choose_backend(opt.backend, FarFieldKernel::DoubleLayer, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   if (backend_ == FarFieldBackend::Fmm) {
     fmm::FmmOptions fo;
-    fo.tolerance = kFmmToleranceMargin * opt.tolerance;
+    fo.tolerance = double_layer_fmm_tolerance(opt.tolerance);
     fo.order = opt.fmm_order;
     fo.leaf_size = opt.fmm_leaf_size;
     fo.threads = threads_;
     fmm_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fo);
-    if (opt.fmm_order <= 0 && kInexactFmmTolerance > fo.tolerance) {
+    const double inexact_tolerance = double_layer_fmm_tolerance(0.25 * kInexactFmmAllowedError, kInexactFmmAllowedError);
+    if (opt.fmm_order <= 0 && inexact_tolerance > fo.tolerance) {
       fmm::FmmOptions fi = fo;
-      fi.tolerance = kInexactFmmTolerance;
+      fi.tolerance = inexact_tolerance;
       fmm_inexact_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fi);
       if (fmm_inexact_->order() >= fmm_->order()) fmm_inexact_.reset();  // no cheaper order to gain
     }

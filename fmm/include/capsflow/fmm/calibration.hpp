@@ -141,6 +141,15 @@ const CalibrationRow& calibration_for(double tolerance) {
 template <class Kernel = Stokeslet>
 int order_for_tolerance(double tolerance) { return calibration_for<Kernel>(tolerance).order; }
 
+/// The loosest tolerance whose row has order p (calibration_for(it).order == p); −1 if no row has it.
+template <class Kernel = Stokeslet>
+double tolerance_for_order(int order) {
+  constexpr CalibrationTable t = CalibrationOf<Kernel>::table;
+  for (int i = 0; i < t.size; ++i)
+    if (t.rows[i].order == order) return t.rows[i].tolerance;
+  return -1.0;
+}
+
 /// Default points per leaf for an order.
 template <class Kernel = Stokeslet>
 int default_leaf_size(int order) {

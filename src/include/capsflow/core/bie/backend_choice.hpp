@@ -70,12 +70,40 @@ const SingleLayerCrossoverRow& single_layer_crossover(double tolerance);
 // True when the direct far field sums single-precision pairs (tolerance >= 1e-5, AVX-512 builds).
 bool uses_mixed_precision(FarFieldBackend b, double tolerance);
 
+// The double layer's FMM order, chosen by the error the second-kind solve sees: relative to the
+// density u in the nodal-area norm (gmres.hpp's contract: an error of at most ε‖u‖), where
+// fmm/calibration.hpp measures relative to the image. For a smooth density the two agree
+// (|D u| ≈ |u|/2); for a rough one — a Krylov vector — the image is 50× smaller than the density,
+// and the calibration's hardest case (random f with outward normals) asked for p = 11 at
+// fluid.tolerance = 1e-6 where p = 9 stays 7× below the need at half the cost. Worst over a smooth
+// and a random density and icosphere levels 4–6 mapped to an a/b = 2 spheroid, against the direct
+// sum (perf/bie/double_layer_fmm_order, perf/RESULTS.md §11.5): relative L2 error and max error
+// relative to max |u|.
+struct DoubleLayerOrderRow {
+  int order;
+  double l2, max;
+};
+inline constexpr DoubleLayerOrderRow kDoubleLayerOrders[] = {
+    {6, 2.7e-5, 7.9e-5}, {7, 1.4e-6, 7.3e-6}, {8, 4.9e-7, 1.8e-6},
+    {9, 3.8e-8, 2.4e-7}, {10, 9.2e-9, 6.1e-8}, {11, 2.7e-9, 1.9e-8},
+};
+// The stresslet FMM tolerance (fmm/calibration.hpp's) of the lowest order above whose L2 error,
+// doubled for margin, is within l2_allowed and whose max error is within max_allowed (both
+// relative to the density); the FMM asked for it runs that order, and the back-end choice reads
+// that order's crossover. Beyond the table: l2_allowed itself, relative to the image (stricter).
+double double_layer_fmm_tolerance(double l2_allowed, double max_allowed);
+// The tolerance fluid.tolerance asks of the double layer's exact applications: L2 within
+// kFmmToleranceMargin × tolerance, max within tolerance (the single layer's promise).
+inline double double_layer_fmm_tolerance(double tolerance) {
+  return double_layer_fmm_tolerance(kFmmToleranceMargin * tolerance, tolerance);
+}
+
 // The back end of one operator's far field for n_sources sources (the single layer's and double
 // layer's: one per edge, the edge midpoints, on flat facets; 3 per element on curved ones; see
 // far_field_source_count in single_layer.hpp) and n_targets targets (the nodes): the scene's
 // choice, or for "auto" that operator's measured crossover (the single layer's table above; the
 // double layer's fmm::direct_crossover<fmm::Stresslet> at the FMM tolerance it asks for,
-// kFmmToleranceMargin × tolerance); `reason` says why.
+// double_layer_fmm_tolerance(tolerance)); `reason` says why.
 FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, Eigen::Index n_sources, Eigen::Index n_targets,
                                double tolerance, std::string* reason);
 
