@@ -4,7 +4,7 @@
 // and the set-up with its first application fused (set_surface(x, &u, &Du), as the viscosity-ratio
 // solve calls it), with its largest difference from set_surface + apply.
 // One JSON line per level.
-//   double_layer_bench --levels 4,6 --repeat 5 --threads 2 [--backend direct|fmm|auto] [--tol 1e-6]
+//   double_layer_bench --levels 4,6 --repeat 5 --threads 2 [--backend direct|fmm|auto] [--tol 1e-6] [--reuse 0]
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <omp.h>
@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
   app.add_option("--tol", tol, "fluid tolerance");
   app.add_option("--repeat", repeat, "timed set-ups and applications (medians reported)");
   app.add_option("--threads", threads, "OpenMP threads");
+  bool reuse = true;
+  app.add_option("--reuse", reuse, "reuse D̃[1]'s quadrature error between set-ups (fluid.reuse_identity_term); "
+                                   "0: every set-up is the full pass");
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   for (int level : levels) {
@@ -49,6 +52,7 @@ int main(int argc, char** argv) {
     SingleLayerOptions o;
     o.backend = from_string<BackendRequest>(backend).value();
     o.tolerance = tol;
+    o.reuse_identity_term = reuse;
     DoubleLayer D(m.triangles, m.num_nodes(), o);
     Points out;
     std::vector<double> setup_wall, setup_cpu, apply_wall, apply_cpu, fused_wall, fused_cpu;

@@ -466,6 +466,9 @@ Mat3 DoubleLayer::local_frame(const Points& x, Eigen::Index i) const {
 void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory) {
   // diagonal_ holds ½ I − D̃[1] from the pass on a refresh; otherwise ½ I − (C + R E Rᵀ) is imposed.
   // stale_ per node: E in the local frame at the refresh (6), then C there, likewise (6).
+  // An off-trajectory set-up that had to take the full pass (its surface jumped from the
+  // reference) uses it for itself only: storing its E would make the run depend on its outputs.
+  if (refreshed && !on_trajectory) return;
   double drift = 0;
   const bool measure = refreshed && stale_valid_;
 #pragma omp parallel for schedule(static) reduction(max : drift) num_threads(threads_)
@@ -484,7 +487,7 @@ void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory) {
     }
   }
   if (!refreshed) return;
-  if (measure && on_trajectory) {
+  if (measure) {
     // The drift per unit of corner change, from this refresh (a floor keeps rounding-level
     // drifts from making it optimistic), at least half the last one's.
     const double floor = kDriftFloor * kIdentityDriftShare * opt_.tolerance;

@@ -138,14 +138,22 @@ TEST(ViscosityRatio, ReusedIdentityTermKeepsTheObservablesAndOutputsDoNotMoveThe
   // set-up would leave only the 5 probes).
   EXPECT_LT(id.at("refreshes").get<long>(), set_ups / 2);
   EXPECT_FALSE(summary(full).at("viscosity_ratio").contains("identity_term"));
+  // GMRES iterations per kind of evaluation (RKC's later stages start from the stage predictor,
+  // §4.8.3) add up to the run's count: every solve is counted once, under its kind.
+  long by_kind = 0;
+  for (const auto& [kind, c] : s.at("timing").at("iterations").at("by_evaluation").items()) by_kind += c.at("gmres").get<long>();
+  EXPECT_EQ(by_kind, s.at("timing").at("iterations").at("gmres").get<long>());
+  EXPECT_GT(s.at("timing").at("iterations").at("by_evaluation").at("predicted_stage").at("evaluations").get<long>(), 0);
   const auto a = columns(reuse), b = columns(full), c = columns(sparse);
   ASSERT_EQ(a.at("t").size(), 6u);
   ASSERT_EQ(b.at("t").size(), 6u);
   for (const char* k : {"D12", "D13", "D23"})
     for (size_t r = 0; r < 6; ++r) {
-      // The reused D̃[1] errs by ≤ 2.5e-5 per node; D_ij moved by 8.7e-10 (measured, the same steps).
-      // 1e-7: above that by 100×, below the RKC tolerance's 1e-5 by 100×.
-      EXPECT_NEAR(std::stod(a.at(k)[r]), std::stod(b.at(k)[r]), 1e-7) << k << " row " << r;
+      // The reused D̃[1] errs by ≤ 2.5e-5 per node, and GMRES stops at 1e-4 of the velocity
+      // (fluid.tolerance): two runs whose operators differ by that may stop at different iterates,
+      // and D_ij (≤ 0.08 here) may then differ by ~1e-4 × 0.08 = 8e-6. Measured 1.2e-6 (8.7e-10
+      // when both runs happened to take the same iterates, session 16); 1e-5 is the tolerance's.
+      EXPECT_NEAR(std::stod(a.at(k)[r]), std::stod(b.at(k)[r]), 1e-5) << k << " row " << r;
     }
   // t = 0.5 is a step's end in both: bit for bit (the shortest round-trip print) whatever the outputs.
   ASSERT_EQ(c.at("t").back(), a.at("t").back());

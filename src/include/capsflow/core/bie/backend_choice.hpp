@@ -114,8 +114,11 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
 // p = 11, perf/bie/double_layer_bench --levels 6 --repeat 3 --threads 2 --backend direct|fmm): CPU s
 // 3.4 against the FMM's 5.3 on a loaded machine (session 11), 2.84 against 3.79 (wall 1.42 against
 // 1.91) on a quiet one (session 12), so the direct pass wins up to ~1.3–1.5× that size, 3.3–3.8×
-// the one-density crossover (28 900); kDirectSetUpCrossoverFactor stays below that. `reason` gets a
-// clause appended when it does.
+// the one-density crossover of p = 11 (28 900); kDirectSetUpCrossoverFactor stays below that. With
+// p = 9 (session 17, double_layer_fmm_tolerance) the FMM's pass is cheaper and the crossover
+// 15 000: at 81 920 elements the FMM takes the pass, measured faster (`--reuse 0`, wall s, a
+// slow host: fused set-up 2.75 against 3.95 direct). `reason` gets a clause appended when the
+// pass is direct.
 inline constexpr double kDirectSetUpCrossoverFactor = 3.0;
 bool double_layer_set_up_direct(BackendRequest requested, FarFieldBackend chosen, Eigen::Index n_sources, Eigen::Index n_targets,
                                 double tolerance, std::string* reason = nullptr);

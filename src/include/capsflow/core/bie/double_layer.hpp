@@ -60,9 +60,9 @@ class DoubleLayer {
   // Everything that depends on the surface x only; call whenever the nodes move. Given u, also
   // Du = D_h[u] on the new surface (as apply(u, Du)) from the same far-field pass: the first
   // application of an iterative solve for the price of the set-up's own pass plus a few percent.
-  // on_trajectory = false (a probe or an output off the solution's path) neither refreshes D̃[1]'s
-  // reused error term (unless the surface jumped) nor measures its drift, so that such set-ups do
-  // not move the run.
+  // on_trajectory = false (a probe or an output off the solution's path) takes the reused error
+  // term of D̃[1] as it is (or, if the surface jumped from its reference, the full pass for itself
+  // only) and neither stores nor measures anything, so that such set-ups do not move the run.
   void set_surface(const Points& x, const Points* u = nullptr, Points* Du = nullptr, bool on_trajectory = true);
   // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
   // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
@@ -101,8 +101,8 @@ class DoubleLayer {
   // D̃[1](x_i) in force on the current surface (the far pass's, or C + the reused error term).
   Mat3 unit_constant_integral(Eigen::Index i) const;
   // The reuse of D̃[1]'s error term (flat facets, FMM back end; docs/boundary-integral.md §4.7.5):
-  // whether it is on, the set-ups that computed D̃[1] by a full pass, and the largest drift a
-  // refresh measured (max over nodes of the Frobenius norm of fresh − reused).
+  // whether it is on, the trajectory set-ups that refreshed the reused term by a full pass, and the
+  // largest drift a refresh measured (max over nodes of the Frobenius norm of fresh − reused).
   bool reuses_identity_term() const { return reuse_; }
   long identity_refreshes() const { return refreshes_; }
   double identity_max_drift() const { return max_drift_; }
