@@ -79,15 +79,18 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   const double v_norm = std::sqrt(w.dot(v.cwiseProduct(v)));
   ViscosityRatioStats st;
   u.resize(n, 3);
+  const bool warm = have_previous_ && previous_y_.size() == 3 * n;
+  const int slots = Prediction::kSlots;
+  if (!probe && prediction.keep_start >= 0 && prediction.keep_start < slots) {
+    kept_y_[prediction.keep_start] = warm ? previous_y_ : VectorXd();  // no previous solution: an empty slot
+    kept_b_[prediction.keep_start] = warm ? previous_b_ : VectorXd();
+  }
   if (v_norm == 0) {  // no flow, no load: u = 0 (the next solve sets the surface up)
     u.setZero();
     if (!probe) previous_y_.setZero(3 * n), previous_b_.setZero(3 * n), have_previous_ = true;
+    if (!probe && prediction.keep >= 0 && prediction.keep < slots) kept_y_[prediction.keep] = previous_y_, kept_b_[prediction.keep] = previous_b_;
     return st;
   }
-  const bool warm = have_previous_ && previous_y_.size() == 3 * n;
-  const int slots = Prediction::kSlots;
-  if (!probe && warm && prediction.keep_start >= 0 && prediction.keep_start < slots)
-    kept_y_[prediction.keep_start] = previous_y_, kept_b_[prediction.keep_start] = previous_b_;
   bool predicted = !probe && prediction.terms > 0 && prediction.terms <= Prediction::kTerms;
   for (int k = 0; predicted && k < prediction.terms; ++k) {
     const int s = prediction.slot[k];
@@ -125,7 +128,10 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   const VectorXd sol = Pv - kappa_over * project(Ay) + y;
   Eigen::Map<VectorXd>(u.data(), u.size()) = sol;
   if (!probe) previous_y_ = y, previous_b_ = b, have_previous_ = true;
-  if (!probe && r.converged && prediction.keep >= 0 && prediction.keep < slots) kept_y_[prediction.keep] = y, kept_b_[prediction.keep] = b;
+  if (!probe && prediction.keep >= 0 && prediction.keep < slots) {
+    kept_y_[prediction.keep] = r.converged ? y : VectorXd();
+    kept_b_[prediction.keep] = r.converged ? b : VectorXd();
+  }
   ++solves_;
   total_iterations_ += r.iterations;
   max_iterations_seen_ = std::max(max_iterations_seen_, r.iterations);

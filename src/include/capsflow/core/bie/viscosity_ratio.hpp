@@ -61,7 +61,6 @@ class ViscosityRatioSolver {
 
   using Prediction = ViscosityRatioPrediction;
 
-
   // u on the surface x for the λ = 1 velocity v1; a = ∂V/∂x_i (volume_gradient). Returns the
   // statistics of the solve; u is written also when it did not converge. on_trajectory = false
   // (a probe, or an output between steps) leaves the double layer's reused terms alone.
@@ -75,7 +74,10 @@ class ViscosityRatioSolver {
   long total_iterations() const { return total_iterations_; }
   int max_iterations_seen() const { return max_iterations_seen_; }
   // Forget the warm start (e.g. after a restart from a checkpoint or a rejected step pattern).
-  void reset_warm_start() { have_previous_ = false; }
+  void reset_warm_start() {
+    have_previous_ = false;
+    for (Eigen::VectorXd& k : kept_y_) k.resize(0);
+  }
   // The next trajectory solve's warm start, to put back after a solve off the trajectory (an
   // output between two steps).
   struct WarmStart {
