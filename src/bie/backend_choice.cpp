@@ -11,9 +11,14 @@ namespace {
 // Single-precision pairs (max relative error ~5e-7, fmm/direct_sum_mixed.hpp) leave a 20x margin
 // from this tolerance on.
 constexpr double kMixedPrecisionTolerance = 1e-5;
-// The stresslet FMM's crossover at the FMM tolerance the double layer asks for.
+// The double layer's FMM/direct crossover: the stresslet calibration's at kFmmToleranceMargin ×
+// tolerance (its rule relative to the image: 28 900 at 1e-6), not at the lower order the double
+// layer runs (15 000 at p = 9), which would switch too early at the boundary integral's sizes:
+// measured at 20 480 elements (sqrt(sources × targets) = 17 700), Fig. 4 at λ = 5 to γ̇t = 0.2,
+// 2 threads, the second-kind solve 0.48 s per evaluation direct against 0.55 by the FMM at p = 9;
+// at 81 920 (70 950) the FMM's application is 3× faster (perf/RESULTS.md §11.5).
 std::size_t stresslet_crossover(double tolerance) {
-  return fmm::direct_crossover<fmm::Stresslet>(double_layer_fmm_tolerance(tolerance));
+  return fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance);
 }
 bool below_crossover(double n_src, double n_trg, double crossover) { return n_src * n_trg < crossover * crossover; }
 }  // namespace

@@ -143,22 +143,17 @@ TEST(BackendChoice, TheReasonNamesTheCountsTheSideAndWhetherTheCrossoverWasMeasu
 TEST(BackendChoice, TheDoubleLayerUsesTheStressletFmmsMeasuredCrossover) {
   // perf/fmm/results/stresslet/crossover.jsonl: sources = targets on the sphere, the stresslet
   // FMM's set-up and one evaluation against its direct sum, at orders 6, 9 and 12. The double
-  // layer asks the FMM for double_layer_fmm_tolerance(fluid.tolerance); for each measured order
-  // take the loosest fluid tolerance (on a grid of 40 per decade) that runs at it. p = 12 is
-  // reached by no fluid tolerance (the density-relative table goes from p = 11 to beyond it).
+  // layer's back-end choice reads the crossover at kFmmToleranceMargin × fluid.tolerance (the
+  // calibration's own rule, not the order the double layer runs: backend_choice.hpp); for each
+  // measured order take the loosest fluid tolerance that maps to it.
   int decided = 0;
   for (const auto& r : read_jsonl("perf/fmm/results/stresslet/crossover.jsonl")) {
     const int p = r["order"].get<int>();
     double tol = NAN;
-    for (int k = 0; k <= 280 && std::isnan(tol); ++k) {
-      const double t = std::pow(10.0, -2.0 - k / 40.0);
-      if (fmm::order_for_tolerance<fmm::Stresslet>(double_layer_fmm_tolerance(t)) == p) tol = t;
-    }
-    if (p == 12) {
-      EXPECT_TRUE(std::isnan(tol));
-      continue;
-    }
-    ASSERT_FALSE(std::isnan(tol)) << "no fluid tolerance runs the double layer at order " << p;
+    for (const auto& row : fmm::kStressletCalibration)
+      if (row.order == p) tol = row.tolerance / kFmmToleranceMargin;
+    ASSERT_FALSE(std::isnan(tol)) << "order " << p << " has no row";
+    ASSERT_EQ(fmm::order_for_tolerance<fmm::Stresslet>(kFmmToleranceMargin * tol), p);
     const double t_fmm = r["setup_s"].get<double>() + r["eval_s"].get<double>(), t_direct = r["direct_s"].get<double>();
     if (std::abs(t_fmm - t_direct) < kTie * std::min(t_fmm, t_direct)) continue;  // a tie
     ++decided;
@@ -169,7 +164,7 @@ TEST(BackendChoice, TheDoubleLayerUsesTheStressletFmmsMeasuredCrossover) {
         << "p = " << p << ", N = " << n << ": direct " << t_direct << " s, FMM " << t_fmm << " s; " << why;
     EXPECT_NE(why.find("stresslet"), std::string::npos) << why;
   }
-  EXPECT_GE(decided, 8);  // 10 sizes at p = 6 and 9, 1 tie (p = 9 at 16 000: 8.8 %)
+  EXPECT_GE(decided, 12);  // 15 sizes, 1 tie (p = 9 at 16 000: 8.8 %)
 }
 
 // The double layer's FMM order is chosen by its error relative to the density (the Krylov

@@ -89,8 +89,8 @@ inline constexpr DoubleLayerOrderRow kDoubleLayerOrders[] = {
 };
 // The stresslet FMM tolerance (fmm/calibration.hpp's) of the lowest order above whose L2 error,
 // doubled for margin, is within l2_allowed and whose max error is within max_allowed (both
-// relative to the density); the FMM asked for it runs that order, and the back-end choice reads
-// that order's crossover. Beyond the table: l2_allowed itself, relative to the image (stricter).
+// relative to the density); the FMM asked for it runs that order. Beyond the table: l2_allowed
+// itself, relative to the image (stricter).
 double double_layer_fmm_tolerance(double l2_allowed, double max_allowed);
 // The tolerance fluid.tolerance asks of the double layer's exact applications: L2 within
 // kFmmToleranceMargin × tolerance, max within tolerance (the single layer's promise).
@@ -102,8 +102,9 @@ inline double double_layer_fmm_tolerance(double tolerance) {
 // layer's: one per edge, the edge midpoints, on flat facets; 3 per element on curved ones; see
 // far_field_source_count in single_layer.hpp) and n_targets targets (the nodes): the scene's
 // choice, or for "auto" that operator's measured crossover (the single layer's table above; the
-// double layer's fmm::direct_crossover<fmm::Stresslet> at the FMM tolerance it asks for,
-// double_layer_fmm_tolerance(tolerance)); `reason` says why.
+// double layer's fmm::direct_crossover<fmm::Stresslet> at kFmmToleranceMargin × tolerance, the
+// calibration's own rule, measured right at the boundary integral's sizes: backend_choice.cpp);
+// `reason` says why.
 FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, Eigen::Index n_sources, Eigen::Index n_targets,
                                double tolerance, std::string* reason);
 
@@ -114,12 +115,12 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
 // p = 11, perf/bie/double_layer_bench --levels 6 --repeat 3 --threads 2 --backend direct|fmm): CPU s
 // 3.4 against the FMM's 5.3 on a loaded machine (session 11), 2.84 against 3.79 (wall 1.42 against
 // 1.91) on a quiet one (session 12), so the direct pass wins up to ~1.3–1.5× that size, 3.3–3.8×
-// the one-density crossover of p = 11 (28 900); kDirectSetUpCrossoverFactor stays below that. With
-// p = 9 (session 17, double_layer_fmm_tolerance) the FMM's pass is cheaper and the crossover
-// 15 000: at 81 920 elements the FMM takes the pass, measured faster (`--reuse 0`, wall s, a
-// slow host: fused set-up 2.75 against 3.95 direct). `reason` gets a clause appended when the
-// pass is direct.
-inline constexpr double kDirectSetUpCrossoverFactor = 3.0;
+// the one-density crossover (28 900). With the FMM at p = 9 (session 17, double_layer_fmm_tolerance)
+// its pass is cheaper: at 81 920 elements it now wins (`--reuse 0`, wall s, a slow host: fused
+// set-up 2.75 against 3.95 direct), so the factor is below 70 950 / 28 900 = 2.45; no level of the
+// icosphere lies between 28 900 and 2 × 28 900, where the factor decides. `reason` gets a clause
+// appended when the pass is direct.
+inline constexpr double kDirectSetUpCrossoverFactor = 2.0;
 bool double_layer_set_up_direct(BackendRequest requested, FarFieldBackend chosen, Eigen::Index n_sources, Eigen::Index n_targets,
                                 double tolerance, std::string* reason = nullptr);
 
