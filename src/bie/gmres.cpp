@@ -29,8 +29,10 @@ GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::Vecto
     r = b - Av;
     double beta = norm(r);
     res.residual = beta;
-    if (res.iterations == 0) res.initial_residual = beta;
-    if (scale <= 0 && res.iterations == 0) target = opt.tolerance * beta;
+    if (res.iterations == 0) {
+      res.initial_residual = beta;
+      if (scale <= 0) target = opt.tolerance * beta;
+    }
     target = std::max(target, opt.floor);
     if (beta <= target) {
       res.converged = true;

@@ -174,7 +174,7 @@ TEST(BackendChoice, TheDoubleLayerUsesTheStressletFmmsMeasuredCrossover) {
 TEST(BackendChoice, TheDoubleLayersFmmOrderMeetsItsToleranceRelativeToTheDensity) {
   EXPECT_EQ(fmm::order_for_tolerance<fmm::Stresslet>(double_layer_fmm_tolerance(1e-6)), 9);
   EXPECT_EQ(fmm::order_for_tolerance<fmm::Stresslet>(double_layer_fmm_tolerance(2.5e-5, 1e-4)), 7);
-  // Beyond the table the image-relative request of before: p = 14 for 1e-10.
+  // Beyond the table: the image-relative request of before, 0.25 × the tolerance.
   EXPECT_EQ(double_layer_fmm_tolerance(1e-10), kFmmToleranceMargin * 1e-10);
   SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
   m.vertices.col(2) *= 2.0;

@@ -67,7 +67,8 @@ class DoubleLayer {
   // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
   // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
   // 1e-5 the direct far field sums its pairs in single precision (where the build has AVX-512),
-  // from 1e-4 the FMM back end uses a second FMM of a lower order (2.5e-5 in relative L2).
+  // from 1e-4 the FMM back end uses a second FMM of a lower order (within a quarter of that relative
+  // to ‖u‖ in L2: double_layer_fmm_tolerance, backend_choice.hpp).
   void apply(const Points& u, Points& out, double allowed_error = 0);
 
   FarFieldBackend backend() const { return backend_; }
