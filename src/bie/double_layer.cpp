@@ -24,14 +24,23 @@ constexpr double kMixedPrecisionAllowedError = 1e-5;
 // max (double_layer_fmm_tolerance; p = 7, measured 1.4e-6 and 7.3e-6).
 constexpr double kInexactFmmAllowedError = 1e-4;
 // D̃[1]'s reused error term (§4.7.5): the drift a reuse may have, as a share of the tolerance (the
-// FMM's own margin, kFmmToleranceMargin), of which the prediction aims at 70 %; measured drifts
-// below 1e-3 of the allowance (the far field's rounding) are taken as that much; and a guard: a
-// node whose corner value moved by more than kCornerJump in its frame since the refresh (a jump
-// of the surface, not a time step's motion) forces a refresh.
+// FMM's own margin, kFmmToleranceMargin). Every set-up that could reuse measures the drift exactly
+// at a sample of nodes (direct sums) and refreshes when it exceeds half that allowance: the other
+// half covers the nodes between the samples (the drift is smooth over the surface: E follows the
+// local geometry) and the refresh pass's own error, which its order keeps below a tenth of the
+// allowance (so that E's extrapolation does not amplify FMM noise). A guard: a node whose corner
+// value moved by more than kCornerJump in its frame since the refresh (a jump of the surface, not a
+// time step's motion) forces a refresh.
 constexpr double kIdentityDriftShare = 0.25;
-constexpr double kPredictionShare = 0.7;
-constexpr double kDriftFloor = 1e-3;
+constexpr double kSampledDriftShare = 0.5;
+constexpr double kRefreshPassShare = 0.1;
 constexpr double kCornerJump = 1e-3;
+// The sample: this many nodes spread over the surface (every k-th in breadth-first order); at
+// 81 920 elements their direct sums cost ~2 % of a λ = 5 evaluation.
+constexpr int kIdentitySamples = 512;
+// How far along the line through the last two refreshes E may be extrapolated, in units of their
+// distance (the fit's s, clamped: beyond, the refresh pass's noise would be amplified).
+constexpr double kExtrapolationRange[2] = {-1.0, 3.0};
 
 inline void add(double* b, double c, const Mat3& m) {
   b[0] += c * m(0, 0), b[1] += c * m(1, 1), b[2] += c * m(2, 2);
@@ -73,6 +82,7 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   if (backend_ == FarFieldBackend::Fmm) {
     fmm::FmmOptions fo;
     fo.tolerance = double_layer_fmm_tolerance(opt.tolerance);
+    fmm_tolerance_ = fo.tolerance;
     fo.order = opt.fmm_order;
     fo.leaf_size = opt.fmm_leaf_size;
     fo.threads = threads_;
@@ -98,13 +108,26 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   reuse_ = !surface_.curved() && opt.reuse_identity_term && backend_ == FarFieldBackend::Fmm;
   if (reuse_) {
     fans_ = std::make_unique<CornerFans>(triangles, n_nodes);
-    stale_.resize(12 * static_cast<size_t>(n_nodes)), corner_.resize(15 * static_cast<size_t>(n_nodes));
+    refreshed_.resize(18 * static_cast<size_t>(n_nodes)), corner_.resize(21 * static_cast<size_t>(n_nodes));
+    const size_t stride = std::max<size_t>(1, node_order_.size() / kIdentitySamples);
+    for (size_t k = 0; k < node_order_.size(); k += stride) samples_.push_back(node_order_[k]);
+    sample_x_.resize(3 * samples_.size()), sample_far_.resize(6 * samples_.size());
+    // The refresh pass at the order whose error (relative to the density, in max) is a tenth of the
+    // allowance: its E is what the set-ups between reuse and extrapolate.
+    const double refresh_max = kRefreshPassShare * kIdentityDriftShare * opt.tolerance;
+    fmm::FmmOptions fr;
+    fr.tolerance = double_layer_fmm_tolerance(kFmmToleranceMargin * refresh_max, refresh_max);
+    fr.order = opt.fmm_order;
+    fr.leaf_size = opt.fmm_leaf_size;
+    fr.threads = threads_;
+    if (opt.fmm_order <= 0 && fr.tolerance < fmm_tolerance_) fmm_refresh_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fr);
   }
 }
 
 DoubleLayer::~DoubleLayer() = default;
 int DoubleLayer::inexact_fmm_order() const { return fmm_inexact_ ? fmm_inexact_->order() : 0; }
 int DoubleLayer::fmm_order() const { return fmm_ ? fmm_->order() : 0; }
+int DoubleLayer::refresh_fmm_order() const { return fmm_refresh_ ? fmm_refresh_->order() : fmm_order(); }
 DoubleLayer::DoubleLayer(DoubleLayer&&) noexcept = default;
 
 void DoubleLayer::build_near_pattern() {
@@ -186,18 +209,33 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
     }
   }
   clock.lap(times_, Phase::BieSources);
-  // D̃[1]: the far field of the unit constants (one pass of T(r)·ñ), then the near blocks' row sums.
-  // Given u, its far field D̃[u] comes from the same pass (the pair geometry computed once).
-  // Far-field points are interior to elements or edge midpoints, never a node: no r = 0 test, one
-  // Newton step (≤ 6e-9 per pair), as for the single layer's direct far field.
+  // The near blocks and their row sums first (diagonal_ = ½ I − the row sums): the sampled drift
+  // needs them, and they do not depend on the far field.
+  assemble_near_field(x);
+  clock.lap(times_, Phase::BieNear);
+  // D̃[1]: the far field of the unit constants (one pass of T(r)·ñ) plus the row sums — or, between
+  // refreshes, C plus the reused error term (§4.7.5). Given u, its far field D̃[u] comes from the
+  // same pass (the pair geometry computed once). Far-field points are interior to elements or edge
+  // midpoints, never a node: no r = 0 test, one Newton step (≤ 6e-9 per pair), as for the single
+  // layer's direct far field.
   const size_t n = static_cast<size_t>(n_nodes_);
   unit_far_.resize(6 * n);
   if (u) fill_far_densities(*u);
   // A surface whose far field is verified takes the FMM pass even where the set-up sums directly:
   // the check is of the FMM (set-up, operators, order) that every iteration on it uses.
   const bool verify_now = opt_.verify_every > 0 && setups_ % opt_.verify_every == 0;
-  if (reuse_) corner_geometry(x);
-  const bool refresh = refresh_due(on_trajectory, verify_now);
+  bool refresh = true;
+  if (reuse_) {
+    corner_geometry(x);
+    refresh = forced_refresh(on_trajectory, verify_now);
+    extrapolation_ = sampled_drift_ = 0;
+    if (!refresh) {
+      sample_identity_drift();
+      refresh = on_trajectory && sampled_drift_ > kSampledDriftShare * kIdentityDriftShare * opt_.tolerance;
+      if (!refresh && on_trajectory) max_reused_drift_ = std::max(max_reused_drift_, sampled_drift_);
+    }
+    clock.lap(times_, Phase::BieSources);
+  }
   if (!refresh) {
     // D̃[1] from C and the reused E: the far-field pass is the first application's alone.
     // Reuse implies the FMM back end.
@@ -208,28 +246,35 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
       fmm_->evaluate(density_.data(), Du->data());
     }
   } else if (fmm_ && (!direct_set_up_ || verify_now)) {
-    // The FMM of the three unit constants (f = e_k, n = ñ), and of u, in one call; T_ijk ñ_k is
-    // symmetric in i, j.
-    fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
-    fmm_ready_ = true;
-    const int sets = u ? 4 : 3;
+    // The FMM of the three unit constants (f = e_k, n = ñ), and of u, in one call, at the refresh
+    // pass's order; T_ijk ñ_k is symmetric in i, j. A verified surface sums u by the iterations'
+    // FMM instead, which the check is of.
+    fmm::Fmm<fmm::Stresslet>& F = fmm_refresh_ ? *fmm_refresh_ : *fmm_;
+    const bool u_here = u && !(verify_now && fmm_refresh_);
+    F.setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
+    fmm_ready_ = &F == fmm_.get();
+    const int sets = u_here ? 4 : 3;
     std::vector<double> dens(6 * static_cast<size_t>(sets * ns)), out(3 * static_cast<size_t>(sets) * n);
     for (Eigen::Index s = 0; s < ns; ++s)
       for (int k = 0; k < 3; ++k) {
         double* d = &dens[6 * (static_cast<size_t>(k * ns + s))];
         for (int c = 0; c < 3; ++c) d[c] = c == k ? 1.0 : 0.0, d[3 + c] = src_n_[3 * s + c];
       }
-    if (u) std::copy(density_.begin(), density_.end(), dens.begin() + 18 * static_cast<std::ptrdiff_t>(ns));
-    fmm_->evaluate(dens.data(), out.data(), sets);
+    if (u_here) std::copy(density_.begin(), density_.end(), dens.begin() + 18 * static_cast<std::ptrdiff_t>(ns));
+    F.evaluate(dens.data(), out.data(), sets);
     for (size_t i = 0; i < n; ++i) {
       auto col = [&](int k, int c) { return out[3 * (k * n + i) + static_cast<size_t>(c)]; };  // D̃[e_k]_c
       double* f = &unit_far_[6 * i];
       f[0] = col(0, 0), f[1] = col(1, 1), f[2] = col(2, 2);
       f[3] = 0.5 * (col(1, 0) + col(0, 1)), f[4] = 0.5 * (col(2, 0) + col(0, 2)), f[5] = 0.5 * (col(2, 1) + col(1, 2));
     }
-    if (u) {
-      Du->resize(n_nodes_, 3);
+    if (u) Du->resize(n_nodes_, 3);
+    if (u_here) {
       std::copy(out.begin() + 9 * static_cast<std::ptrdiff_t>(n), out.end(), Du->data());
+    } else if (u) {
+      fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), n);
+      fmm_ready_ = true;
+      fmm_->evaluate(density_.data(), Du->data());
     }
   } else if (u) {
     std::vector<double> out(9 * n);
@@ -265,7 +310,11 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
     checks_.add(c, opt_.tolerance);
     clock.lap(times_, Phase::BieVerify);
   }
-  assemble_near_field(x);
+  if (refresh) {  // the diagonal ½ I − D̃[1]: the far field of the unit constants completes it
+#pragma omp parallel for schedule(static) num_threads(threads_)
+    for (Eigen::Index i = 0; i < n_nodes_; ++i)
+      for (int k = 0; k < 6; ++k) diagonal_[6 * static_cast<size_t>(i) + static_cast<size_t>(k)] -= unit_far_[6 * static_cast<size_t>(i) + static_cast<size_t>(k)];
+  }
   if (reuse_) reuse_identity_term(refresh, on_trajectory);
   if (u) add_near_field(*u, *Du);
   clock.lap(times_, Phase::BieNear);
@@ -353,10 +402,9 @@ void DoubleLayer::assemble_near_field(const Points& x) {
                                              {kGaussBary[1][0], kGaussBary[1][1], kGaussBary[1][2], 1.0},
                                              {kGaussBary[2][0], kGaussBary[2][1], kGaussBary[2][2], 1.0}};
     add_elements(band, slot, &band_y_, &band_n_, 3, kGauss4);
-    // Scale, then the diagonal ½ I − D̃[1](x_i): the far field of the unit constants plus the row sums.
+    // Scale, then the diagonal ½ I minus the row sums (set_surface subtracts D̃[1]'s far part).
     double* Dg = &diagonal_[6 * static_cast<size_t>(i)];
-    const double* f = &unit_far_[6 * static_cast<size_t>(i)];
-    for (int k = 0; k < 6; ++k) Dg[k] = (k < 3 ? 0.5 : 0.0) - f[k];
+    for (int k = 0; k < 6; ++k) Dg[k] = k < 3 ? 0.5 : 0.0;
     for (int b = block_start_[i]; b < block_start_[i + 1]; ++b)
       for (int k = 0; k < 6; ++k) {
         block_[6 * static_cast<size_t>(b) + k] *= kInv8Pi;
@@ -424,27 +472,60 @@ void DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
 }
 
 void DoubleLayer::corner_geometry(const Points& x) {
-  // Per node C and R (corner_), and how far the surface moved since the refresh: the largest change
-  // of a node's corner value in its local frame (E drifts with the same local geometry).
+  // Per node C, R and C in the local frame (corner_), and how far the surface moved since the last
+  // refresh: the largest change of a node's local corner value (the jump guard).
+  const bool since = refresh_records_ > 0;
   double change = 0;
-  const bool since = stale_valid_;
 #pragma omp parallel for schedule(static) reduction(max : change) num_threads(threads_)
   for (Eigen::Index i = 0; i < n_nodes_; ++i) {
     const size_t k = static_cast<size_t>(i);
     const Mat3 R = local_frame(x, i), C = corner_double_layer(x, i, *fans_);
-    sym_store(C, &corner_[15 * k]);
-    Eigen::Map<Mat3> frame(&corner_[15 * k + 6]);
+    sym_store(C, &corner_[21 * k]);
+    Eigen::Map<Mat3> frame(&corner_[21 * k + 6]);
     frame = R;
-    if (since) change = std::max(change, (C - R * sym_matrix(&stale_[12 * k + 6]) * R.transpose()).norm());
+    const Mat3 local = R.transpose() * C * R;
+    sym_store(local, &corner_[21 * k + 15]);
+    if (since) change = std::max(change, (local - sym_matrix(&refreshed_[18 * k + 6])).norm());
   }
   corner_change_ = change;
 }
 
-bool DoubleLayer::refresh_due(bool on_trajectory, bool verify_now) const {
-  if (!reuse_ || !stale_valid_ || corner_change_ > kCornerJump) return true;
-  if (!on_trajectory) return false;
-  if (verify_now || drift_rate_ <= 0) return true;
-  return drift_rate_ * corner_change_ > kPredictionShare * kIdentityDriftShare * opt_.tolerance;
+bool DoubleLayer::forced_refresh(bool on_trajectory, bool verify_now) const {
+  if (refresh_records_ == 0 || corner_change_ > kCornerJump) return true;
+  return on_trajectory && verify_now;
+}
+
+void DoubleLayer::sample_identity_drift() {
+  // D̃[1] summed directly at the sample nodes (far field of the unit constants plus the row sums
+  // the assembly left in diagonal_), its error term E in the local frames, and the reuse's value
+  // there: E1 + s (E1 − E0), s fitted to the sample by least squares (0 after a single refresh).
+  const size_t m = samples_.size();
+  for (size_t j = 0; j < m; ++j)
+    for (int d = 0; d < 3; ++d) sample_x_[3 * j + static_cast<size_t>(d)] = x_(samples_[j], d);
+  fmm::direct_sum<StressletNormalPair, 1, false>(src_.data(), src_.size() / 3, src_n_.data(), sample_x_.data(), m,
+                                                 sample_far_.data(), threads_);
+  std::vector<Mat3> now(m);
+  double along = 0, squared = 0;
+  for (size_t j = 0; j < m; ++j) {
+    const size_t k = static_cast<size_t>(samples_[j]);
+    const Mat3 C = sym_matrix(&corner_[21 * k]), R = Eigen::Map<const Mat3>(&corner_[21 * k + 6]);
+    const Mat3 D1 = sym_matrix(&sample_far_[6 * j]) + 0.5 * Mat3::Identity() - sym_matrix(&diagonal_[6 * k]);
+    now[j] = R.transpose() * (D1 - C) * R;
+    if (refresh_records_ < 2) continue;
+    const Mat3 E1 = sym_matrix(&refreshed_[18 * k]), secant = E1 - sym_matrix(&refreshed_[18 * k + 12]);
+    along += ((now[j] - E1).array() * secant.array()).sum();
+    squared += secant.squaredNorm();
+  }
+  extrapolation_ = squared > 0 ? std::clamp(along / squared, kExtrapolationRange[0], kExtrapolationRange[1]) : 0.0;
+  double drift = 0;
+  for (size_t j = 0; j < m; ++j) {
+    const size_t k = static_cast<size_t>(samples_[j]);
+    const Mat3 E1 = sym_matrix(&refreshed_[18 * k]);
+    Mat3 E = E1;
+    if (extrapolation_ != 0) E += extrapolation_ * (E1 - sym_matrix(&refreshed_[18 * k + 12]));
+    drift = std::max(drift, (now[j] - E).norm());
+  }
+  sampled_drift_ = drift;
 }
 
 Mat3 DoubleLayer::local_frame(const Points& x, Eigen::Index i) const {
@@ -464,37 +545,42 @@ Mat3 DoubleLayer::local_frame(const Points& x, Eigen::Index i) const {
 }
 
 void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory) {
-  // diagonal_ holds ½ I − D̃[1] from the pass on a refresh; otherwise ½ I − (C + R E Rᵀ) is imposed.
-  // stale_ per node: E in the local frame at the refresh (6), then C there, likewise (6).
+  // diagonal_ holds ½ I − D̃[1] from the pass on a refresh; otherwise ½ I − (C + R E Rᵀ) is imposed,
+  // E = E1 + s (E1 − E0) (sample_identity_drift). refreshed_ per node, in the local frames of their
+  // refreshes: E1, C1 (the last refresh), E0 (the one before).
   // An off-trajectory set-up that had to take the full pass (its surface jumped from the
   // reference) uses it for itself only: storing its E would make the run depend on its outputs.
   if (refreshed && !on_trajectory) return;
+  // After a jump the older refresh lies on another surface: the line starts again from this one.
+  const bool restart_line = refreshed && corner_change_ > kCornerJump;
+  const bool measure = refreshed && refresh_records_ > 0;
+  const double s = extrapolation_;  // a refresh measures the drift of the reuse it replaced
   double drift = 0;
-  const bool measure = refreshed && stale_valid_;
 #pragma omp parallel for schedule(static) reduction(max : drift) num_threads(threads_)
   for (Eigen::Index i = 0; i < n_nodes_; ++i) {
     const size_t k = static_cast<size_t>(i);
-    const Mat3 C = sym_matrix(&corner_[15 * k]), R = Eigen::Map<const Mat3>(&corner_[15 * k + 6]);
+    const Mat3 C = sym_matrix(&corner_[21 * k]), R = Eigen::Map<const Mat3>(&corner_[21 * k + 6]);
     double* Dg = &diagonal_[6 * k];
-    const Mat3 reused = C + R * sym_matrix(&stale_[12 * k]) * R.transpose();
+    double* record = &refreshed_[18 * k];
     if (refreshed) {
       const Mat3 D1 = 0.5 * Mat3::Identity() - sym_matrix(Dg);
-      if (measure) drift = std::max(drift, (D1 - reused).norm());
-      sym_store(R.transpose() * (D1 - C) * R, &stale_[12 * k]);
-      sym_store(R.transpose() * C * R, &stale_[12 * k + 6]);
+      if (measure) {
+        Mat3 E = sym_matrix(record);
+        if (s != 0) E += s * (E - sym_matrix(record + 12));
+        drift = std::max(drift, (D1 - C - R * E * R.transpose()).norm());
+      }
+      std::copy(record, record + 6, record + 12);
+      sym_store(R.transpose() * (D1 - C) * R, record);
+      std::copy(&corner_[21 * k + 15], &corner_[21 * k + 21], record + 6);
     } else {
-      sym_store(0.5 * Mat3::Identity() - reused, Dg);
+      Mat3 E = sym_matrix(record);
+      if (s != 0) E += s * (E - sym_matrix(record + 12));
+      sym_store(0.5 * Mat3::Identity() - (C + R * E * R.transpose()), Dg);
     }
   }
   if (!refreshed) return;
-  if (measure) {
-    // The drift per unit of corner change, from this refresh (a floor keeps rounding-level
-    // drifts from making it optimistic), at least half the last one's.
-    const double floor = kDriftFloor * kIdentityDriftShare * opt_.tolerance;
-    if (corner_change_ > 0) drift_rate_ = std::max(std::max(drift, floor) / corner_change_, 0.5 * drift_rate_);
-    max_drift_ = std::max(max_drift_, drift);
-  }
-  stale_valid_ = true;
+  if (measure) max_drift_ = std::max(max_drift_, drift);
+  refresh_records_ = restart_line ? 1 : std::min(refresh_records_ + 1, 2);
   ++refreshes_;
 }
 

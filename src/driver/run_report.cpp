@@ -128,7 +128,9 @@ nlohmann::json Simulation::Impl::summary() const {
     if (D.reuses_identity_term())
       summary["viscosity_ratio"]["identity_term"] = {{"refreshes", D.identity_refreshes()},
                                                      {"max_drift", D.identity_max_drift()},
-                                                     {"drift_per_corner_change", D.identity_drift_rate()}};
+                                                     {"max_reused_sampled_drift", D.identity_max_reused_drift()},
+                                                     {"samples", D.identity_samples()},
+                                                     {"refresh_fmm_order", D.refresh_fmm_order()}};
   }
   if (far_check->enabled()) summary[far_check->name()] = far_check->summary(dyn->single_layer());
   if (dl_far_check->enabled())

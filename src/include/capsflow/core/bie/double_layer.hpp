@@ -20,10 +20,11 @@
 // form) and the quadrature's error E_i = D̃[1](x_i) − C(x_i), which follows the surface slowly. E
 // is computed by a full pass on a refreshing set-up, kept in each node's local frame (so that it
 // turns with the surface), and reused with the current C on the set-ups between, whose far-field
-// pass is then the first application's alone. Each refresh measures how far the reused E had
-// drifted from the fresh one, per unit change of the nodes' corner values since the last refresh;
-// a trajectory set-up refreshes when that rate times the change so far would exceed 70 % of a
-// quarter of the tolerance (kIdentityDriftShare).
+// pass is then the first application's alone: extrapolated along the last two refreshes, as far as
+// a sample of nodes, where every set-up sums D̃[1] directly, says the surface went. A trajectory
+// set-up refreshes when the reuse would err at the sample by more than half of a quarter of the
+// tolerance (kIdentityDriftShare, kSampledDriftShare); the refresh pass runs at an order whose own
+// error is a tenth of that quarter, so that the extrapolation does not amplify FMM noise.
 //
 // set_surface(x) does everything that depends only on the surface — the far field's points and
 // normals, the near-field terms as a sparse matrix of symmetric 3×3 blocks, D̃[1] — so that the
@@ -102,18 +103,26 @@ class DoubleLayer {
   // D̃[1](x_i) in force on the current surface (the far pass's, or C + the reused error term).
   Mat3 unit_constant_integral(Eigen::Index i) const;
   // The reuse of D̃[1]'s error term (flat facets, FMM back end; docs/boundary-integral.md §4.7.5):
-  // whether it is on, the trajectory set-ups that refreshed the reused term by a full pass, and the
-  // largest drift a refresh measured (max over nodes of the Frobenius norm of fresh − reused).
+  // whether it is on, the trajectory set-ups that refreshed the reused term by a full pass, the
+  // largest drift a refresh measured over all nodes (max of the Frobenius norm of fresh − reused:
+  // what a reuse there would have erred by), and the largest drift a reusing trajectory set-up
+  // measured at its sample of nodes (by direct sums).
   bool reuses_identity_term() const { return reuse_; }
   long identity_refreshes() const { return refreshes_; }
   double identity_max_drift() const { return max_drift_; }
-  // The drift per unit change of a corner value that the last refreshes measured (0: none yet).
-  double identity_drift_rate() const { return drift_rate_; }
+  double identity_max_reused_drift() const { return max_reused_drift_; }
+  // This set-up's: the drift at the samples, and s of the reuse E = E1 + s (E1 − E0) (both 0 on a
+  // forced refresh; a refresh for a sampled drift keeps the values that called for it).
+  double identity_sampled_drift() const { return sampled_drift_; }
+  double identity_extrapolation() const { return extrapolation_; }
+  std::size_t identity_samples() const { return samples_.size(); }
+  int refresh_fmm_order() const;  // the refresh pass's FMM order (fmm_order() if not above it)
 
  private:
   void build_near_pattern();
   void corner_geometry(const Points& x);  // corner_ and corner_change_ on a new surface
-  bool refresh_due(bool on_trajectory, bool verify_now) const;
+  bool forced_refresh(bool on_trajectory, bool verify_now) const;  // no record yet, a jump, a verified surface
+  void sample_identity_drift();  // extrapolation_ and sampled_drift_, after assemble_near_field
   Mat3 local_frame(const Points& x, Eigen::Index i) const;
   void reuse_identity_term(bool refreshed, bool on_trajectory);  // after assemble_near_field
   void assemble_near_field(const Points& x);
@@ -150,13 +159,20 @@ class DoubleLayer {
   // 1/8π. slot_ maps (node, listed element) to the blocks of its 3 vertices, in list order.
   std::vector<int> block_start_, block_col_, slot_start_, slot_;
   std::vector<double> block_, diagonal_;
-  // D̃[1]'s reuse (§4.7.5): the vertex fans, E = D̃[1] − C and C at the last refresh.
+  // D̃[1]'s reuse (§4.7.5): the vertex fans, E = D̃[1] − C at the last two refreshes, the sample.
   bool reuse_ = false;
   std::unique_ptr<CornerFans> fans_;
-  std::vector<double> stale_;   // per node: E, then C, in the local frame at the refresh (6 + 6)
-  std::vector<double> corner_;  // per node on the current surface: C (6), the local frame R (9)
-  bool stale_valid_ = false;
-  double corner_change_ = 0, drift_rate_ = 0;  // since the refresh; drift per unit of it
+  std::vector<double> refreshed_;  // per node: E1, C1 (the last refresh), E0 (the one before), local frames
+  std::vector<double> corner_;     // per node on the current surface: C (6), the local frame R (9), C in it (6)
+  int refresh_records_ = 0;        // how many of the two refreshes are kept
+  double corner_change_ = 0;       // the largest change of a local corner value since the last refresh
+  std::vector<int> samples_;       // the nodes at which every set-up measures the reuse's drift
+  std::vector<double> sample_x_, sample_far_;  // their positions, their direct far field of the unit constants
+  double extrapolation_ = 0;       // s of this set-up's reuse: E = E1 + s (E1 − E0)
+  double sampled_drift_ = 0;       // the largest drift of that reuse at the samples
+  double max_reused_drift_ = 0;    // the largest sampled drift of a trajectory set-up that reused
+  std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_refresh_;  // the refresh pass's order, if above fmm_'s
+  double fmm_tolerance_ = 0;       // fmm_'s
   long refreshes_ = 0;
   double max_drift_ = 0;
   std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
