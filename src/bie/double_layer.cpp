@@ -27,13 +27,13 @@ constexpr double kInexactFmmAllowedError = 1e-4;
 // FMM's own margin, kFmmToleranceMargin). Every set-up that could reuse measures the drift exactly
 // at a sample of nodes (direct sums) and refreshes when it exceeds half that allowance: the other
 // half covers the nodes between the samples (the drift is smooth over the surface: E follows the
-// local geometry) and the refresh pass's own error, which its order keeps below a tenth of the
+// local geometry) and the refresh pass's own error, which its order keeps below a quarter of the
 // allowance (so that E's extrapolation does not amplify FMM noise). A guard: a node whose corner
 // value moved by more than kCornerJump in its frame since the refresh (a jump of the surface, not a
 // time step's motion) forces a refresh.
 constexpr double kIdentityDriftShare = 0.25;
 constexpr double kSampledDriftShare = 0.5;
-constexpr double kRefreshPassShare = 0.1;
+constexpr double kRefreshPassShare = 0.25;
 constexpr double kCornerJump = 1e-3;
 // The sample: this many nodes spread over the surface (every k-th in breadth-first order); at
 // 81 920 elements their direct sums cost ~2 % of a λ = 5 evaluation.
@@ -112,11 +112,11 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     const size_t stride = std::max<size_t>(1, node_order_.size() / kIdentitySamples);
     for (size_t k = 0; k < node_order_.size(); k += stride) samples_.push_back(node_order_[k]);
     sample_x_.resize(3 * samples_.size()), sample_far_.resize(6 * samples_.size());
-    // The refresh pass at the order whose error (relative to the density, in max) is a tenth of the
-    // allowance: its E is what the set-ups between reuse and extrapolate.
+    // The refresh pass at the order whose error (relative to the density, in max: the allowance's
+    // norm) is a quarter of the allowance: its E is what the set-ups between reuse and extrapolate.
     const double refresh_max = kRefreshPassShare * kIdentityDriftShare * opt.tolerance;
     fmm::FmmOptions fr;
-    fr.tolerance = double_layer_fmm_tolerance(kFmmToleranceMargin * refresh_max, refresh_max);
+    fr.tolerance = double_layer_fmm_tolerance(refresh_max, refresh_max);
     fr.order = opt.fmm_order;
     fr.leaf_size = opt.fmm_leaf_size;
     fr.threads = threads_;

@@ -24,7 +24,7 @@
 // a sample of nodes, where every set-up sums D̃[1] directly, says the surface went. A trajectory
 // set-up refreshes when the reuse would err at the sample by more than half of a quarter of the
 // tolerance (kIdentityDriftShare, kSampledDriftShare); the refresh pass runs at an order whose own
-// error is a tenth of that quarter, so that the extrapolation does not amplify FMM noise.
+// error is a quarter of that quarter, so that the extrapolation does not amplify FMM noise much.
 //
 // set_surface(x) does everything that depends only on the surface — the far field's points and
 // normals, the near-field terms as a sparse matrix of symmetric 3×3 blocks, D̃[1] — so that the
