@@ -55,6 +55,11 @@ inline void sym_store(const Mat3& m, double* b) {
   b[0] = m(0, 0), b[1] = m(1, 1), b[2] = m(2, 2), b[3] = 0.5 * (m(0, 1) + m(1, 0)), b[4] = 0.5 * (m(0, 2) + m(2, 0)),
   b[5] = 0.5 * (m(1, 2) + m(2, 1));
 }
+// A node's reused error term in its local frame: E1 + s (E1 − E0), from its record (E1, C1, E0).
+inline Mat3 extrapolated_error(const double* record, double s) {
+  const Mat3 E1 = sym_matrix(record);
+  return s == 0 ? E1 : Mat3(E1 + s * (E1 - sym_matrix(record + 12)));
+}
 inline Vec3 sym_times(const double* b, const double* u) {
   return {b[0] * u[0] + b[3] * u[1] + b[4] * u[2], b[3] * u[0] + b[1] * u[1] + b[5] * u[2],
           b[4] * u[0] + b[5] * u[1] + b[2] * u[2]};
@@ -520,10 +525,7 @@ void DoubleLayer::sample_identity_drift() {
   double drift = 0;
   for (size_t j = 0; j < m; ++j) {
     const size_t k = static_cast<size_t>(samples_[j]);
-    const Mat3 E1 = sym_matrix(&refreshed_[18 * k]);
-    Mat3 E = E1;
-    if (extrapolation_ != 0) E += extrapolation_ * (E1 - sym_matrix(&refreshed_[18 * k + 12]));
-    drift = std::max(drift, (now[j] - E).norm());
+    drift = std::max(drift, (now[j] - extrapolated_error(&refreshed_[18 * k], extrapolation_)).norm());
   }
   sampled_drift_ = drift;
 }
@@ -564,18 +566,12 @@ void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory) {
     double* record = &refreshed_[18 * k];
     if (refreshed) {
       const Mat3 D1 = 0.5 * Mat3::Identity() - sym_matrix(Dg);
-      if (measure) {
-        Mat3 E = sym_matrix(record);
-        if (s != 0) E += s * (E - sym_matrix(record + 12));
-        drift = std::max(drift, (D1 - C - R * E * R.transpose()).norm());
-      }
+      if (measure) drift = std::max(drift, (D1 - C - R * extrapolated_error(record, s) * R.transpose()).norm());
       std::copy(record, record + 6, record + 12);
       sym_store(R.transpose() * (D1 - C) * R, record);
       std::copy(&corner_[21 * k + 15], &corner_[21 * k + 21], record + 6);
     } else {
-      Mat3 E = sym_matrix(record);
-      if (s != 0) E += s * (E - sym_matrix(record + 12));
-      sym_store(0.5 * Mat3::Identity() - (C + R * E * R.transpose()), Dg);
+      sym_store(0.5 * Mat3::Identity() - (C + R * extrapolated_error(record, s) * R.transpose()), Dg);
     }
   }
   if (!refreshed) return;
