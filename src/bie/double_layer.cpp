@@ -84,10 +84,11 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
       source_slots_(far_field_source_slots(lists_, triangles.rows(), far_rule_ == FarFieldRule::EdgeMidpoints)) {
   if (opt.near_ring_depth > 0) throw std::invalid_argument("double layer: near_ring_depth > 0 is not supported");
   backend_ = choose_backend(opt.backend, FarFieldKernel::DoubleLayer, far_field_sources(), n_nodes, opt.tolerance, &reason_);
+  double fmm_tolerance = 0;  // the iterations' FMM's (the refresh pass's below takes its own if stricter)
   if (backend_ == FarFieldBackend::Fmm) {
     fmm::FmmOptions fo;
     fo.tolerance = double_layer_fmm_tolerance(opt.tolerance);
-    fmm_tolerance_ = fo.tolerance;
+    fmm_tolerance = fo.tolerance;
     fo.order = opt.fmm_order;
     fo.leaf_size = opt.fmm_leaf_size;
     fo.threads = threads_;
@@ -116,7 +117,7 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     refreshed_.resize(18 * static_cast<size_t>(n_nodes)), corner_.resize(21 * static_cast<size_t>(n_nodes));
     const size_t stride = std::max<size_t>(1, node_order_.size() / kIdentitySamples);
     for (size_t k = 0; k < node_order_.size(); k += stride) samples_.push_back(node_order_[k]);
-    sample_x_.resize(3 * samples_.size()), sample_far_.resize(6 * samples_.size());
+    sample_x_.resize(3 * samples_.size()), sample_far_.resize(6 * samples_.size()), sample_error_.resize(samples_.size());
     // The refresh pass at the order whose error (relative to the density, in max: the allowance's
     // norm) is a quarter of the allowance: its E is what the set-ups between reuse and extrapolate.
     const double refresh_max = kRefreshPassShare * kIdentityDriftShare * opt.tolerance;
@@ -125,7 +126,7 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     fr.order = opt.fmm_order;
     fr.leaf_size = opt.fmm_leaf_size;
     fr.threads = threads_;
-    if (opt.fmm_order <= 0 && fr.tolerance < fmm_tolerance_) fmm_refresh_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fr);
+    if (opt.fmm_order <= 0 && fr.tolerance < fmm_tolerance) fmm_refresh_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fr);
   }
 }
 
@@ -509,7 +510,7 @@ void DoubleLayer::sample_identity_drift() {
     for (int d = 0; d < 3; ++d) sample_x_[3 * j + static_cast<size_t>(d)] = x_(samples_[j], d);
   fmm::direct_sum<StressletNormalPair, 1, false>(src_.data(), src_.size() / 3, src_n_.data(), sample_x_.data(), m,
                                                  sample_far_.data(), threads_);
-  std::vector<Mat3> now(m);
+  std::vector<Mat3>& now = sample_error_;
   double along = 0, squared = 0;
   for (size_t j = 0; j < m; ++j) {
     const size_t k = static_cast<size_t>(samples_[j]);

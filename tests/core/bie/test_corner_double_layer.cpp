@@ -250,13 +250,12 @@ TEST(DoubleLayerIdentityReuse, ExtrapolatedAlongACurvedPathStaysWithinTheAllowan
   const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
   Points x0 = m.vertices;
   x0.col(2) *= 1.5;
-  const Eigen::Matrix3d axis_turn = Eigen::Matrix3d::Identity();
   auto surface = [&](double t) {
     Points y = x0;
     y.col(0) *= 1 + 0.2 * std::sin(t);
     y.col(1) *= 1 - 0.1 * t;
     y.col(2) *= 1 + 0.3 * t * t;
-    const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.5 * t, Vec3(1, 2, 3).normalized()).toRotationMatrix() * axis_turn;
+    const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.5 * t, Vec3(1, 2, 3).normalized()).toRotationMatrix();
     return Points(y * Q.transpose());
   };
   SingleLayerOptions opt;

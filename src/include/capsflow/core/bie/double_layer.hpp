@@ -168,11 +168,11 @@ class DoubleLayer {
   double corner_change_ = 0;       // the largest change of a local corner value since the last refresh
   std::vector<int> samples_;       // the nodes at which every set-up measures the reuse's drift
   std::vector<double> sample_x_, sample_far_;  // their positions, their direct far field of the unit constants
+  std::vector<Mat3> sample_error_;             // E there in the local frames (sample_identity_drift's scratch)
   double extrapolation_ = 0;       // s of this set-up's reuse: E = E1 + s (E1 − E0)
   double sampled_drift_ = 0;       // the largest drift of that reuse at the samples
   double max_reused_drift_ = 0;    // the largest sampled drift of a trajectory set-up that reused
   std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_refresh_;  // the refresh pass's order, if above fmm_'s
-  double fmm_tolerance_ = 0;       // fmm_'s
   long refreshes_ = 0;
   double max_drift_ = 0;
   std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
