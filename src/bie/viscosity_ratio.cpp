@@ -87,7 +87,7 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   }
   if (v_norm == 0) {  // no flow, no load: u = 0 (the next solve sets the surface up)
     u.setZero();
-    if (!probe) previous_y_.setZero(3 * n), previous_b_.setZero(3 * n), have_previous_ = true;
+    if (!probe) previous_y_.setZero(3 * n), previous_b_.setZero(3 * n), previous_residual_.setZero(3 * n), have_previous_ = true;
     if (!probe && prediction.keep >= 0 && prediction.keep < slots) kept_y_[prediction.keep] = previous_y_, kept_b_[prediction.keep] = previous_b_;
     return st;
   }
@@ -113,13 +113,20 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   VectorXd Ay = VectorXd::Zero(3 * n);
   GmresOptions go = gmres_;
   double scale = one_plus_kappa * v_norm;
-  if (probe && warm) {
-    // Relative to the initial residual (the difference from the base state), but not below
-    // 1e-3 of the trajectory's target, which the operator's own rounding could not meet.
+  VectorXd rhs;
+  const bool base = probe && warm && previous_residual_.size() == 3 * n;
+  if (base) {
+    // The difference from the base: R y = b − r_base, so that y − y_base carries no part of the
+    // base's residual; to kProbeAccuracy of the change of b, but not below 1e-3 of the
+    // trajectory's target, which the operator's own rounding could not meet.
+    rhs = b - previous_residual_;
+    go.tolerance = kProbeAccuracy;
     go.floor = 1e-3 * gmres_.tolerance * scale;
-    scale = 0;
+    const VectorXd db = b - previous_b_;
+    scale = std::sqrt(w.dot(db.cwiseProduct(db)));
   }
-  const GmresResult r = gmres(R, b, y, w, scale, go, &Ay);
+  const VectorXd& gmres_b = base ? rhs : b;
+  const GmresResult r = gmres(R, gmres_b, y, w, scale, go, &Ay);
   st.iterations = r.iterations;
   st.residual = r.residual / (one_plus_kappa * v_norm);  // relative to the solution's scale in both modes
   st.initial_residual = r.initial_residual / (one_plus_kappa * v_norm);
@@ -127,7 +134,11 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   st.predicted = predicted;
   const VectorXd sol = Pv - kappa_over * project(Ay) + y;
   Eigen::Map<VectorXd>(u.data(), u.size()) = sol;
-  if (!probe) previous_y_ = y, previous_b_ = b, have_previous_ = true;
+  if (!probe) {
+    previous_y_ = y, previous_b_ = b, have_previous_ = true;
+    // b − R y from the iterates' Ã y (GMRES's own residual, the inexact steps' errors included).
+    previous_residual_ = b - y - kappa * (Ay - project(Ay));
+  }
   if (!probe && prediction.keep >= 0 && prediction.keep < slots) {
     kept_y_[prediction.keep] = r.converged ? y : VectorXd();
     kept_b_[prediction.keep] = r.converged ? b : VectorXd();

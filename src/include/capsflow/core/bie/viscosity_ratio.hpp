@@ -25,8 +25,11 @@
 // likewise — and stops when the residual is below
 // tolerance × (1 + κ) ‖v1‖ (nodal-area RMS): the error in u is then about tolerance × ‖v1‖.
 // A probe (a point off the trajectory, y + δw of the spectral-radius power iteration, which
-// differences two velocities δ apart) reduces its initial residual by the tolerance instead — so
-// that the *difference* is accurate to it — and leaves the warm start alone.
+// differences its velocity against the last solve's, δ apart) solves for that difference only: it
+// takes the base's final residual into its right-hand side, so that the base's own solver error
+// cancels in the difference, and stops when the residual is below kProbeAccuracy × the change of
+// the right-hand side (docs/boundary-integral.md §4.8.3); it leaves the warm start alone. Its
+// velocity is meant for that difference: on its own it carries the base's error.
 #include <array>
 
 #include "capsflow/core/bie/double_layer.hpp"
@@ -47,6 +50,11 @@ struct ViscosityRatioStats {
 // last trajectory solve's solution in that slot; after a converged solve, keep keeps this one's;
 // terms > 0 says this surface's state ≈ Σ weight_k × (the state solved in slot_k), Σ weight = 1,
 // and GMRES starts from Σ weight_k y_k moved by b − Σ weight_k b_k (R ≈ I).
+// A probe's accuracy, relative to the change of its right-hand side from the base's: the power
+// iteration stops when σ changes by 1 % (spectral_radius.hpp), which a 1e-3 error in each
+// difference leaves intact.
+inline constexpr double kProbeAccuracy = 1e-3;
+
 struct ViscosityRatioPrediction {
   static constexpr int kSlots = 4, kTerms = 4;
   int keep_start = -1, keep = -1, terms = 0;
@@ -81,19 +89,22 @@ class ViscosityRatioSolver {
   // The next trajectory solve's warm start, to put back after a solve off the trajectory (an
   // output between two steps).
   struct WarmStart {
-    Eigen::VectorXd y, b;
+    Eigen::VectorXd y, b, residual;
     bool valid = false;
   };
-  WarmStart warm_start() const { return {previous_y_, previous_b_, have_previous_}; }
+  WarmStart warm_start() const { return {previous_y_, previous_b_, previous_residual_, have_previous_}; }
   void set_warm_start(WarmStart w) {
-    previous_y_ = std::move(w.y), previous_b_ = std::move(w.b), have_previous_ = w.valid;
+    previous_y_ = std::move(w.y), previous_b_ = std::move(w.b), previous_residual_ = std::move(w.residual);
+    have_previous_ = w.valid;
   }
 
  private:
   double lambda_, kappa_;
   DoubleLayer D_;
   GmresOptions gmres_;
-  Eigen::VectorXd previous_y_, previous_b_;
+  // The last solve that was not a probe: its solution, right-hand side and final residual b − R y
+  // (the probes' base, which they are differenced against).
+  Eigen::VectorXd previous_y_, previous_b_, previous_residual_;
   bool have_previous_ = false;
   std::array<Eigen::VectorXd, Prediction::kSlots> kept_y_, kept_b_;  // the stages' solutions (Prediction)
   long solves_ = 0, total_iterations_ = 0;
