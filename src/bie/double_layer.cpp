@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <iterator>
 #include <stdexcept>
 
 #include "capsflow/core/bie/stresslet_pair.hpp"
@@ -19,10 +20,12 @@ constexpr double kInv8Pi = fmm::Stresslet::scale();
 // fmm/direct_sum_mixed.hpp, tests/fmm/test_kernels.cpp); taken when the caller allows 100× that
 // relative to the input (the operator's norm is O(1)).
 constexpr double kMixedPrecisionAllowedError = 1e-5;
-// With the FMM, inexact steps take a second FMM of a lower order, taken when the step may err by
-// 1e-4 relative to the density: the order that keeps a quarter of that in L2 and all of it in
-// max (double_layer_fmm_tolerance; p = 7, measured 1.4e-6 and 7.3e-6).
-constexpr double kInexactFmmAllowedError = 1e-4;
+// With the FMM, inexact steps take FMMs of lower orders: from each allowance (relative to the
+// density) the order that keeps a quarter of it in L2 and all of it in max (double_layer_fmm_tolerance;
+// at 81 920 elements p = 7, 6 and 5, measured 1.4e-6 / 7.3e-6, 2.7e-5 / 7.9e-5 and 4.0e-4 / 2.4e-3).
+// GMRES allows 0.01 × target / ‖r_k‖ (gmres.hpp): a predicted stage's first step ~1e-3, its second
+// ~1e-2, where p = 5 costs 0.55× the apply of p = 7 (perf/RESULTS.md §11.4, session 19).
+constexpr double kInexactFmmAllowedErrors[] = {5e-3, 1e-3, 1e-4};  // loosest first
 // D̃[1]'s reused error term (§4.7.5): the drift a reuse may have, as a share of the tolerance (the
 // FMM's own margin, kFmmToleranceMargin). Every set-up that could reuse measures the drift exactly
 // at a sample of nodes (direct sums) and refreshes when it exceeds half that allowance: the other
@@ -93,12 +96,17 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     fo.leaf_size = opt.fmm_leaf_size;
     fo.threads = threads_;
     fmm_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fo);
-    const double inexact_tolerance = double_layer_fmm_tolerance(0.25 * kInexactFmmAllowedError, kInexactFmmAllowedError);
-    if (opt.fmm_order <= 0 && inexact_tolerance > fo.tolerance) {
+    // From the strictest allowance on, each tier only where its order is lower than the next
+    // stricter one's (no cheaper order to gain otherwise).
+    int stricter_order = fmm_->order();
+    for (size_t k = std::size(kInexactFmmAllowedErrors); opt.fmm_order <= 0 && k-- > 0;) {
+      const double allowed = kInexactFmmAllowedErrors[k];
       fmm::FmmOptions fi = fo;
-      fi.tolerance = inexact_tolerance;
-      fmm_inexact_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fi);
-      if (fmm_inexact_->order() >= fmm_->order()) fmm_inexact_.reset();  // no cheaper order to gain
+      fi.tolerance = double_layer_fmm_tolerance(0.25 * allowed, allowed);
+      if (fmm::order_for_tolerance<fmm::Stresslet>(fi.tolerance) >= stricter_order) continue;
+      InexactFmm tier{allowed, std::make_unique<fmm::Fmm<fmm::Stresslet>>(fi)};
+      stricter_order = tier.fmm->order();
+      inexact_fmms_.insert(inexact_fmms_.begin(), std::move(tier));
     }
     direct_set_up_ = double_layer_set_up_direct(opt.backend, backend_, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   }
@@ -131,7 +139,16 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
 }
 
 DoubleLayer::~DoubleLayer() = default;
-int DoubleLayer::inexact_fmm_order() const { return fmm_inexact_ ? fmm_inexact_->order() : 0; }
+int DoubleLayer::inexact_fmm_order() const {
+  for (const InexactFmm& t : inexact_fmms_)
+    if (t.allowed_error <= std::end(kInexactFmmAllowedErrors)[-1]) return t.fmm->order();
+  return 0;
+}
+std::vector<DoubleLayer::InexactFmmUse> DoubleLayer::inexact_fmm_uses() const {
+  std::vector<InexactFmmUse> uses;
+  for (const InexactFmm& t : inexact_fmms_) uses.push_back({t.allowed_error, t.fmm->order(), t.applications});
+  return uses;
+}
 int DoubleLayer::fmm_order() const { return fmm_ ? fmm_->order() : 0; }
 int DoubleLayer::refresh_fmm_order() const { return fmm_refresh_ ? fmm_refresh_->order() : fmm_order(); }
 DoubleLayer::DoubleLayer(DoubleLayer&&) noexcept = default;
@@ -185,7 +202,7 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
     throw std::invalid_argument("double layer: set_surface's first application needs u (one row per node) and Du");
   Stopwatch clock, total;
   x_ = x;
-  inexact_fmm_ready_ = false;  // its tree is set up on the first inexact step of this surface
+  for (InexactFmm& t : inexact_fmms_) t.ready = false;  // trees set up on the first inexact step that takes them
   fmm_ready_ = false;          // likewise the full-order FMM's, unless the set-up pass uses it
   surface_.update(x, threads_);
   const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
@@ -453,10 +470,17 @@ void DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
   fill_far_densities(u);
   clock.lap(times_, Phase::BieSources);
   out.resize(n_nodes_, 3);
-  if (fmm_inexact_ && allowed_error >= kInexactFmmAllowedError) {
-    if (!inexact_fmm_ready_) fmm_inexact_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), static_cast<std::size_t>(n_nodes_));
-    inexact_fmm_ready_ = true;
-    fmm_inexact_->evaluate(density_.data(), out.data());
+  InexactFmm* tier = nullptr;
+  for (InexactFmm& t : inexact_fmms_)
+    if (allowed_error >= t.allowed_error) {
+      tier = &t;
+      break;
+    }
+  if (tier) {
+    if (!tier->ready) tier->fmm->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), static_cast<std::size_t>(n_nodes_));
+    tier->ready = true;
+    tier->fmm->evaluate(density_.data(), out.data());
+    ++tier->applications;
     ++inexact_applications_;
   } else if (fmm_) {
     if (!fmm_ready_) fmm_->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), static_cast<std::size_t>(n_nodes_));

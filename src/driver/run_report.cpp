@@ -124,6 +124,10 @@ nlohmann::json Simulation::Impl::summary() const {
                                   {"double_layer_applications", D.applications()},
                                   {"double_layer_inexact_applications", D.inexact_applications()},
                                   {"double_layer_apply_seconds", D.apply_seconds()}};
+    // The inexact Krylov steps by the FMM order they took (docs/boundary-integral.md §4.8.3).
+    nlohmann::json by_order = nlohmann::json::object();
+    for (const auto& t : D.inexact_fmm_uses()) by_order[std::to_string(t.order)] = t.applications;
+    if (!by_order.empty()) summary["viscosity_ratio"]["double_layer_inexact_by_fmm_order"] = by_order;
     // D̃[1]'s reused error term (docs/boundary-integral.md §4.7.5), this segment's operator.
     if (D.reuses_identity_term())
       summary["viscosity_ratio"]["identity_term"] = {{"refreshes", D.identity_refreshes()},

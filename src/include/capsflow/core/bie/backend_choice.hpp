@@ -84,7 +84,7 @@ struct DoubleLayerOrderRow {
   double l2, max;
 };
 inline constexpr DoubleLayerOrderRow kDoubleLayerOrders[] = {
-    {6, 2.7e-5, 7.9e-5}, {7, 1.4e-6, 7.3e-6}, {8, 4.9e-7, 1.8e-6},
+    {4, 7.8e-4, 3.2e-3}, {5, 4.0e-4, 2.4e-3}, {6, 2.7e-5, 7.9e-5}, {7, 1.4e-6, 7.3e-6}, {8, 4.9e-7, 1.8e-6},
     {9, 3.8e-8, 2.4e-7}, {10, 9.2e-9, 6.1e-8}, {11, 2.7e-9, 1.9e-8},
 };
 // The stresslet FMM tolerance (fmm/calibration.hpp's) of the lowest order above whose L2 error,

@@ -68,8 +68,9 @@ class DoubleLayer {
   // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
   // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
   // 1e-5 the direct far field sums its pairs in single precision (where the build has AVX-512),
-  // from 1e-4 the FMM back end uses a second FMM of a lower order (within a quarter of that relative
-  // to ‖u‖ in L2: double_layer_fmm_tolerance, backend_choice.hpp).
+  // from 1e-4 the FMM back end uses FMMs of lower orders, the lower the larger the allowance
+  // (from 1e-4, 1e-3 and 5e-3: within a quarter of it relative to ‖u‖ in L2 and all of it in max,
+  // double_layer_fmm_tolerance, backend_choice.hpp).
   void apply(const Points& u, Points& out, double allowed_error = 0);
 
   FarFieldBackend backend() const { return backend_; }
@@ -99,7 +100,14 @@ class DoubleLayer {
   long applications() const { return applications_; }
   // Applications that used the cheaper inexact far field (single-precision pairs or the lower-order FMM).
   long inexact_applications() const { return inexact_applications_; }
-  int inexact_fmm_order() const;  // 0 without one
+  int inexact_fmm_order() const;  // the order taken from allowed_error = 1e-4; 0 without one
+  // Per inexact FMM, loosest first: the allowance from which it is taken, its order, its applications.
+  struct InexactFmmUse {
+    double allowed_error;
+    int order;
+    long applications;
+  };
+  std::vector<InexactFmmUse> inexact_fmm_uses() const;
   // D̃[1](x_i) in force on the current surface (the far pass's, or C + the reused error term).
   Mat3 unit_constant_integral(Eigen::Index i) const;
   // The reuse of D̃[1]'s error term (flat facets, FMM back end; docs/boundary-integral.md §4.7.5):
@@ -141,8 +149,15 @@ class DoubleLayer {
   FarFieldBackend backend_;
   std::string reason_;
   std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_;  // backend Fmm: set up once per surface
-  std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_inexact_;  // a lower order for inexact steps (backend Fmm)
-  bool inexact_fmm_ready_ = false;                  // fmm_inexact_ set up on the current surface
+  // Lower orders for inexact steps (backend Fmm), loosest allowance first; each set up on the first
+  // inexact step of a surface that takes it.
+  struct InexactFmm {
+    double allowed_error;
+    std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm;
+    bool ready = false;
+    long applications = 0;
+  };
+  std::vector<InexactFmm> inexact_fmms_;
   bool fmm_ready_ = false;                          // fmm_ set up on the current surface
   bool direct_set_up_ = false;  // backend Fmm, "auto": the set-up's four-density pass sums directly
   Points x_;                          // the nodes of the last set_surface() (far-field targets)
