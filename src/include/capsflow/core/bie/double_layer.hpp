@@ -69,7 +69,7 @@ class DoubleLayer {
   // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
   // 1e-5 the direct far field sums its pairs in single precision (where the build has AVX-512),
   // from 1e-4 the FMM back end uses FMMs of lower orders, the lower the larger the allowance
-  // (from 1e-4, 1e-3 and 5e-3: within a quarter of it relative to ‖u‖ in L2 and all of it in max,
+  // (from 1e-4 and 1e-3: within a quarter of it relative to ‖u‖ in L2 and all of it in max,
   // double_layer_fmm_tolerance, backend_choice.hpp).
   void apply(const Points& u, Points& out, double allowed_error = 0);
 
