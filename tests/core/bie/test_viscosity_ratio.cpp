@@ -34,6 +34,20 @@ SingleLayerOptions direct(SurfaceGeometry g) {
   return o;
 }
 
+// An a/b = 2 spheroid (level 3) tilted by 0.5 rad in the shear plane: no symmetry helps the solve.
+SurfaceMesh tilted_spheroid() {
+  SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 3);
+  map_to_spheroid(m, 2.0, 0);
+  m.vertices = m.vertices * Eigen::AngleAxisd(0.5, Vec3::UnitZ()).toRotationMatrix().transpose();
+  return m;
+}
+// v = L x for simple shear along x1, gradient along x2.
+Mat3 simple_shear() {
+  Mat3 L = Mat3::Zero();
+  L(0, 1) = 1;
+  return L;
+}
+
 double max_error(const Points& u, const Points& exact) {
   return (u - exact).rowwise().norm().maxCoeff() / exact.rowwise().norm().maxCoeff();
 }
@@ -169,12 +183,9 @@ TEST(ViscosityRatioSpheroid, RigidLimitRotatesAsJeffery) {
 // 2λ/(1 + λ) (0.02 at λ = 0.01) would spread the spectrum by 50× (§4.8.2); deflated it stays
 // within about [0.4, 1.6] and the iteration count does not grow with λ or 1/λ.
 TEST(ViscosityRatioSpheroid, DeflatedSolveConvergesFastForEveryViscosityRatio) {
-  Mat3 L = Mat3::Zero();
-  L(0, 1) = 1;
+  const Mat3 L = simple_shear();
   for (SurfaceGeometry g : {SurfaceGeometry::Flat, SurfaceGeometry::Curved}) {
-    SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 3);
-    map_to_spheroid(m, 2.0, 0);
-    m.vertices = m.vertices * Eigen::AngleAxisd(0.5, Vec3::UnitZ()).toRotationMatrix().transpose();
+    const SurfaceMesh m = tilted_spheroid();
     Points a;
     volume_gradient(m.vertices, m.triangles, a);
     const Points v1 = m.vertices * L.transpose();
@@ -209,11 +220,8 @@ TEST(ViscosityRatioSpheroid, DeflatedSolveConvergesFastForEveryViscosityRatio) {
 // combination of theirs: the initial guess is wrong by O(h²) instead of the last solution's O(h),
 // so GMRES needs fewer iterations for the same tolerance — and arrives at the same velocity.
 TEST(ViscosityRatioSpheroid, StagePredictionStartsCloserAndSolvesTheSameEquation) {
-  SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 3);
-  map_to_spheroid(m, 2.0, 0);
-  m.vertices = m.vertices * Eigen::AngleAxisd(0.5, Vec3::UnitZ()).toRotationMatrix().transpose();
-  Mat3 L = Mat3::Zero();
-  L(0, 1) = 1;
+  const SurfaceMesh m = tilted_spheroid();
+  const Mat3 L = simple_shear();
   const Mat3 stretch = Vec3(0.2, -0.1, -0.1).asDiagonal();
   const double h = 0.05;
   auto state = [&](double t) { return Points(m.vertices + t * m.vertices * stretch.transpose()); };
@@ -257,11 +265,8 @@ TEST(ViscosityRatioSpheroid, StagePredictionStartsCloserAndSolvesTheSameEquation
 // a probe's difference: the probe takes it into its right-hand side and solves for the difference
 // alone. Oracle: the same two solves at 1e-12, whose difference is exact to ~1e-7 of itself.
 TEST(ViscosityRatioSpheroid, AProbeDifferenceIsAccurateAtTheTrajectoryTolerance) {
-  SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 3);
-  map_to_spheroid(m, 2.0, 0);
-  m.vertices = m.vertices * Eigen::AngleAxisd(0.5, Vec3::UnitZ()).toRotationMatrix().transpose();
-  Mat3 L = Mat3::Zero();
-  L(0, 1) = 1;
+  const SurfaceMesh m = tilted_spheroid();
+  const Mat3 L = simple_shear();
   const double lambda = 5;
   // The probe state: every node moved by ~1e-8 (the power iteration's δ = √ε‖x‖ spread over the
   // nodes), its λ = 1 velocity changed by ~2e-5 of ‖v1‖ in a rough pattern (the stiff modes the
