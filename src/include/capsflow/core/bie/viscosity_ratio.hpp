@@ -45,16 +45,16 @@ struct ViscosityRatioStats {
   bool predicted = false;  // started from a Prediction's combination of kept solutions
 };
 
-// The warm start across the stages of a step (the time stepper's stage predictor, handed on by
-// the right-hand side; docs/boundary-integral.md §4.8.3): before solving, keep_start keeps the
-// last trajectory solve's solution in that slot; after a converged solve, keep keeps this one's;
-// terms > 0 says this surface's state ≈ Σ weight_k × (the state solved in slot_k), Σ weight = 1,
-// and GMRES starts from Σ weight_k y_k moved by b − Σ weight_k b_k (R ≈ I).
 // A probe's accuracy, relative to the change of its right-hand side from the base's: the power
 // iteration stops when σ changes by 1 % (spectral_radius.hpp), which a 1e-3 error in each
 // difference leaves intact.
 inline constexpr double kProbeAccuracy = 1e-3;
 
+// The warm start across the stages of a step (the time stepper's stage predictor, handed on by
+// the right-hand side; docs/boundary-integral.md §4.8.3): before solving, keep_start keeps the
+// last trajectory solve's solution in that slot; after a converged solve, keep keeps this one's;
+// terms > 0 says this surface's state ≈ Σ weight_k × (the state solved in slot_k), Σ weight = 1,
+// and GMRES starts from Σ weight_k y_k moved by b − Σ weight_k b_k (R ≈ I).
 struct ViscosityRatioPrediction {
   static constexpr int kSlots = 4, kTerms = 4;
   int keep_start = -1, keep = -1, terms = 0;
