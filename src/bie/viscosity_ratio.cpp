@@ -132,12 +132,13 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   st.initial_residual = r.initial_residual / (one_plus_kappa * v_norm);
   st.converged = r.converged;
   st.predicted = predicted;
-  const VectorXd sol = Pv - kappa_over * project(Ay) + y;
+  const VectorXd PAy = project(Ay);
+  const VectorXd sol = Pv - kappa_over * PAy + y;
   Eigen::Map<VectorXd>(u.data(), u.size()) = sol;
   if (!probe) {
     previous_y_ = y, previous_b_ = b, have_previous_ = true;
     // b − R y from the iterates' Ã y (GMRES's own residual, the inexact steps' errors included).
-    previous_residual_ = b - y - kappa * (Ay - project(Ay));
+    previous_residual_ = b - y - kappa * (Ay - PAy);
   }
   if (!probe && prediction.keep >= 0 && prediction.keep < slots) {
     kept_y_[prediction.keep] = r.converged ? y : VectorXd();
