@@ -59,27 +59,30 @@ std::map<double, std::map<std::pair<std::string, int>, Size>> single_layer_timin
   return t;
 }
 
-
 // A leaf-size sweep (perf/fmm/results/*.jsonl: fmm_bench lines) checked against a kernel's default
 // leaf: for every (sources, targets, order) case, the default must have been measured and cost at
-// most (1 + slack) times the best leaf of that case. Returns the number of cases.
+// most (1 + slack) times the best leaf of that case. Only the orders whose default leaf is
+// `only_leaf` are checked (0: all); returns the number of cases checked.
 template <class Kernel>
-std::size_t expect_default_leaf_near_best(const std::string& sweep, double slack) {
+std::size_t expect_default_leaf_near_best(const std::string& sweep, double slack, int only_leaf = 0) {
   std::map<std::tuple<long, long, int>, std::map<int, double>> by;  // (N, M, p) → leaf → seconds
   for (const auto& r : read_jsonl(sweep))
     by[{r["n"].get<long>(), r["ntrg"].get<long>(), r["order"].get<int>()}][r["leaf"].get<int>()] =
         r["setup_s"].get<double>() + r["eval_s"].get<double>();
+  std::size_t checked = 0;
   for (const auto& [key, times] : by) {
     const auto& [n, ntrg, p] = key;
-    double best = INFINITY;
-    for (const auto& [leaf, t] : times) best = std::min(best, t);
     const int leaf = fmm::default_leaf_size<Kernel>(p);
+    if (only_leaf > 0 && leaf != only_leaf) continue;
+    ++checked;
+    double best = INFINITY;
+    for (const auto& [l, t] : times) best = std::min(best, t);
     EXPECT_TRUE(times.count(leaf)) << sweep << ": leaf " << leaf << " was not measured at p = " << p;
     if (times.count(leaf)) {
       EXPECT_LE(times.at(leaf), (1 + slack) * best) << sweep << ": N = " << n << " × " << ntrg << ", p = " << p << ", leaf " << leaf;
     }
   }
-  return by.size();
+  return checked;
 }
 }  // namespace
 
@@ -211,8 +214,40 @@ TEST(BackendChoice, TheDoubleLayersFmmOrderMeetsItsToleranceRelativeToTheDensity
 
 TEST(BackendChoice, TheStressletsDefaultLeafIsWithinTenPercentOfTheBestMeasured) {
   // perf/fmm/results/stresslet/leaf.jsonl: leaves of 200–800 points at p = 6, 9, 12 (N = 1e5) and
-  // p = 9 (N = 1e6), sphere. 10 %: the repeats' spread, as kTie.
-  EXPECT_EQ(expect_default_leaf_near_best<fmm::Stresslet>("perf/fmm/results/stresslet/leaf.jsonl", kTie), 4u);
+  // p = 9 (N = 1e6), random points on the sphere. 10 %: the repeats' spread, as kTie. Only p = 6
+  // still takes a leaf from that sweep (p ≥ 9: the double layer's own points, the next test).
+  EXPECT_EQ(expect_default_leaf_near_best<fmm::Stresslet>("perf/fmm/results/stresslet/leaf.jsonl", kTie, 800), 1u);
+}
+
+TEST(BackendChoice, TheStressletsDefaultLeafIsNearTheBestOnTheDoubleLayersOwnPoints) {
+  // perf/bie/double_layer_leaf.jsonl (perf/bie/double_layer_leaf.cpp): edge-midpoint sources and
+  // node targets of icosphere levels 5–7 on spheroids a/b = 1, 1.4, 2; leaves interleaved within
+  // each sweep, so losses are ratios inside one sweep. The tree's depth moves in steps with the
+  // leaf, and no leaf is best at every size (at level 5 a leaf of 2 000 wins, at level 7 it loses
+  // 1.2–1.5×), so two bounds: within 10 % of the best (the repeats' spread, as kTie) at 81 920 and
+  // 327 680 elements, where the FMM dominates a run (measured worst 1.09, p = 7), and within 60 %
+  // at 20 480 (measured worst 1.56, p = 9). The leaf of 800 that p = 9 and 10 had lost 1.62× and
+  // 1.76× at 81 920 elements and fails the first bound.
+  std::map<std::tuple<std::string, int, double, int, int>, std::map<int, double>> by;  // case → leaf → seconds
+  for (const auto& r : read_jsonl("perf/bie/double_layer_leaf.jsonl")) {
+    if (r["kernel"] != "stresslet") continue;
+    by[{r["sweep"].get<std::string>(), r["level"].get<int>(), r["aspect"].get<double>(), r["order"].get<int>(),
+        r["densities"].get<int>()}][r["leaf"].get<int>()] = r["wall_s"].get<double>();
+  }
+  int fine = 0;
+  for (const auto& [key, times] : by) {
+    const auto& [sweep, level, aspect, p, nd] = key;
+    double best = INFINITY;
+    for (const auto& [leaf, t] : times) best = std::min(best, t);
+    const int leaf = fmm::default_leaf_size<fmm::Stresslet>(p);
+    ASSERT_TRUE(times.count(leaf)) << sweep << ": leaf " << leaf << " not measured at p = " << p;
+    const double loss = times.at(leaf) / best;
+    fine += level >= 6;
+    EXPECT_LE(loss, level >= 6 ? 1 + kTie : 1.6) << sweep << ", level " << level << ", a/b " << aspect << ", p = " << p
+                                                 << ", " << nd << " densities: leaf " << leaf;
+  }
+  EXPECT_EQ(by.size(), 28u);  // levels 5–6: 2 × 3 shapes × 4 orders (6, 7, 9; 10 with 4 densities); level 7: 2 sweeps × 2 shapes, p = 9
+  EXPECT_EQ(fine, 16);
 }
 
 TEST(BackendChoice, TheStokesletsDefaultLeafIsNearTheBestMeasuredAtTheBoundaryIntegralsSizes) {

@@ -85,7 +85,15 @@ inline constexpr CalibrationRow kCalibration[] = {
 // leaf_size: measured for the stresslet (perf/fmm/stresslet_bench.sh §4, quiet machine,
 // results/stresslet/leaf.jsonl; sphere, leaves 200–800): 800 was fastest at p = 6, 9 and 12 with
 // N = 1e5 (by 9 %, 10 % and 32 % over 600), 600 at p = 9 with N = 1e6 (800 4.6 % slower); 800 is
-// the leaf whose worst loss is smallest. Other orders are not measured and take 800 too.
+// the leaf whose worst loss is smallest there. From p = 9 on it is 1 300, the Stokeslet's: on the
+// double layer's own points (edge midpoints as sources, nodes as targets; icosphere levels 5–7,
+// spheroids a/b = 1, 1.4, 2; perf/bie/double_layer_leaf.cpp, results in
+// perf/bie/double_layer_leaf.jsonl) 800 adds a tree level where 1 300 does not, and costs up to
+// 1.83× at p = 9 (1.62× on the Fig. 4 capsule at 81 920 elements, 1.25× at 327 680) and 1.76× with
+// the refresh pass's four densities at p = 10; 1 300 loses at most 1.56× (20 480 elements, where a
+// leaf of 2 000 wins and loses 1.2–1.5× at 327 680: no one leaf wins at every size). At p = 6 and
+// 7, 800 and 1 300 trade places by shape (worst losses 1.03 / 1.24 and 1.24 / 1.29): 800 stays.
+// p = 8 is not measured and keeps 800; p ≥ 11 are not measured and follow p = 9 and 10.
 // crossover: measured at p = 6, 9, 12 (§5, results/stresslet/crossover.jsonl; sphere, sources =
 // targets, set-up + one evaluation against direct_sum<Stresslet>, log-log between the sizes
 // 4000–64000, rounded up): 7 300, 15 000, 40 000 — later than the Stokeslet's of the time (6 000,
@@ -100,12 +108,12 @@ inline constexpr CalibrationRow kStressletCalibration[] = {
     {1e-3, 6, 800, 7300},
     {8e-5, 7, 800, 9300},
     {2.5e-5, 8, 800, 11800},
-    {3e-6, 9, 800, 15000},
-    {7e-7, 10, 800, 20800},
-    {1.7e-7, 11, 800, 28900},
-    {4.5e-8, 12, 800, 40000},
-    {4e-8, 13, 800, 48000},
-    {0.0, 14, 800, 58000},
+    {3e-6, 9, 1300, 15000},
+    {7e-7, 10, 1300, 20800},
+    {1.7e-7, 11, 1300, 28900},
+    {4.5e-8, 12, 1300, 40000},
+    {4e-8, 13, 1300, 48000},
+    {0.0, 14, 1300, 58000},
 };
 
 /// A kernel's table (rows from loose to tight) and the smallest relative L2 error its FMM reaches
