@@ -226,8 +226,8 @@ TEST(BackendChoice, TheStressletsDefaultLeafIsNearTheBestOnTheDoubleLayersOwnPoi
   // leaf, and no leaf is best at every size (at level 5 a leaf of 2 000 wins, at level 7 it loses
   // 1.2–1.5×), so two bounds: within 10 % of the best (the repeats' spread, as kTie) at 81 920 and
   // 327 680 elements, where the FMM dominates a run (measured worst 1.09, p = 7), and within 60 %
-  // at 20 480 (measured worst 1.56, p = 9). The leaf of 800 that p = 9 and 10 had lost 1.62× and
-  // 1.76× at 81 920 elements and fails the first bound.
+  // at 20 480 (measured worst 1.56, p = 9). The leaf of 800 that p = 9 and 10 had lost 1.62× at
+  // 81 920 elements (both orders) and fails the first bound.
   std::map<std::tuple<std::string, int, double, int, int>, std::map<int, double>> by;  // case → leaf → seconds
   for (const auto& r : read_jsonl("perf/bie/double_layer_leaf.jsonl")) {
     if (r["kernel"] != "stresslet") continue;
