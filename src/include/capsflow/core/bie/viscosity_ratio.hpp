@@ -81,11 +81,6 @@ class ViscosityRatioSolver {
   long solves() const { return solves_; }
   long total_iterations() const { return total_iterations_; }
   int max_iterations_seen() const { return max_iterations_seen_; }
-  // Forget the warm start (e.g. after a restart from a checkpoint or a rejected step pattern).
-  void reset_warm_start() {
-    have_previous_ = false;
-    for (Eigen::VectorXd& k : kept_y_) k.resize(0);
-  }
   // The next trajectory solve's warm start, to put back after a solve off the trajectory (an
   // output between two steps).
   struct WarmStart {
