@@ -4,7 +4,8 @@
 // the image ‖D u‖ (the FMM calibration's measure, fmm/calibration.hpp). For a smooth density the
 // two agree (D u ≈ u/2 in size); for a rough one the image is far smaller than the density, so the
 // calibration's worst case (random f with outward normals) overstates what the solve needs.
-// One JSON line per (level, order, density), on an a/b = 2 spheroid; wall seconds of one apply().
+// One JSON line per (level, order, density: smooth, random, and the unit constants unit_x/y/z that the
+// D̃[1] refresh pass sums), on an a/b = 2 spheroid; wall seconds of one apply().
 //   double_layer_fmm_order --levels 5,6 --orders 7,8,9,10,11 --threads 2
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -50,18 +51,26 @@ int main(int argc, char** argv) {
     direct.reuse_identity_term = false;
     DoubleLayer ref(m.triangles, m.num_nodes(), direct);
     ref.set_surface(x);
-    Points ref_smooth, ref_rough;
-    ref.apply(smooth, ref_smooth);
-    ref.apply(rough, ref_rough);
+    // The densities: a smooth field, a random one (a Krylov vector), and the three unit constants
+    // (the refresh pass's densities of D̃[1], boundary-integral.md §4.7.5).
+    std::vector<Points> dens{smooth, rough};
+    const char* names[] = {"smooth", "random", "unit_x", "unit_y", "unit_z"};
+    for (int c = 0; c < 3; ++c) {
+      Points e = Points::Zero(m.num_nodes(), 3);
+      e.col(c).setOnes();
+      dens.push_back(e);
+    }
+    std::vector<Points> refs(dens.size());
+    for (size_t k = 0; k < dens.size(); ++k) ref.apply(dens[k], refs[k]);
     for (int p : orders) {
       SingleLayerOptions o = direct;
       o.backend = BackendRequest::Fmm;
       o.fmm_order = p;
       DoubleLayer D(m.triangles, m.num_nodes(), o);
       D.set_surface(x);
-      for (int k = 0; k < 2; ++k) {
-        const Points& u = k == 0 ? smooth : rough;
-        const Points& r = k == 0 ? ref_smooth : ref_rough;
+      for (size_t k = 0; k < dens.size(); ++k) {
+        const Points& u = dens[k];
+        const Points& r = refs[k];
         Points out;
         D.apply(u, out);  // the first application pays for the FMM's tree
         Stopwatch s;
@@ -73,7 +82,7 @@ int main(int argc, char** argv) {
         nlohmann::json j{{"level", level},
                          {"elements", m.triangles.rows()},
                          {"order", p},
-                         {"density", k == 0 ? "smooth" : "random"},
+                         {"density", names[k]},
                          {"threads", omp_get_max_threads()},
                          {"apply_wall_s", seconds},
                          {"image_over_density", norm(r) / norm(u)},

@@ -4,7 +4,8 @@
 // aspects a/b (a along z). The octree's depth follows the leaf in steps: on these structured points a
 // leaf can add a level that random points on the sphere (perf/fmm/leaf_bie.sh) do not, so the
 // calibration's leaf is checked here (the Fig. 4 capsule starts as an a/b = 1.4 spheroid). Leaves are interleaved round by round (the host's drift
-// falls on every leaf alike); medians of --rounds, wall seconds of setup() + evaluate().
+// falls on every leaf alike); medians of --rounds, wall seconds of setup() + evaluate(), and the last
+// round's seconds by pass (last_round_s: tree, p2m, m2m, m2l, x_list, l2l, p2p, l2p, other).
 // --kernel stokeslet times the single layer's far field on the same points (f alone).
 // One JSON line per (kernel, level, shape, order, densities, leaf).
 //   double_layer_leaf --levels 5,6 --aspects 1,1.4,2 --orders 6,7,9,10 --leaves 800,1000,1300,1600 --densities 1,4
@@ -37,6 +38,12 @@ struct Case {
   double aspect;
   size_t sources, targets;
 };
+
+// The last round's time by pass (fmm.hpp's FmmTimings): where a leaf's time goes.
+nlohmann::json phases(const fmm::FmmTimings& t) {
+  return {{"tree", t.tree}, {"p2m", t.p2m}, {"m2m", t.m2m}, {"m2l", t.m2l}, {"x_list", t.x_list}, {"l2l", t.l2l},
+          {"p2p", t.p2p},   {"l2p", t.l2p}, {"other", t.other}};
+}
 
 // setup() + evaluate() of one FMM per leaf, the leaves interleaved round by round.
 template <class Kernel>
@@ -85,7 +92,8 @@ void time_leaves(const Case& c, const std::vector<double>& src, const std::vecto
                                       {"v_pairs", v_pairs},
                                       {"wx_items", wx},
                                       {"threads", omp_get_max_threads()},
-                                      {"wall_s", median(wall[k])}}
+                                      {"wall_s", median(wall[k])},
+                                      {"last_round_s", phases(F[k].timings())}}
                            .dump());
   }
   std::fflush(stdout);

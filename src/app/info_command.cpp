@@ -119,7 +119,7 @@ int info_command(const InfoOptions& opt) {
   }
   fmt::print("memory          ~{:.0f} MB{}{}\n", num(r["memory_mb"]),
              r["memory_fmm_operators"].get<bool>() ? " + FMM operators (~0.5 GB at p = 9)" : "",
-             r["memory_double_layer_fmm_operators"].get<bool>() ? " + stresslet FMMs (~0.9 GB: p = 9, 10, 7, 6)" : "");
+             r["memory_double_layer_fmm_operators"].get<bool>() ? " + stresslet FMMs (~0.95 GB: p = 9, 10, 7, 6, 5, 4)" : "");
   return 0;
 }
 

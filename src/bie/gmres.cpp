@@ -21,8 +21,8 @@ GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::Vecto
   std::vector<VectorXd> V(static_cast<size_t>(m + 1)), W;  // Arnoldi basis, aux images
   if (aux) W.resize(static_cast<size_t>(m));
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m + 1, m);
-  VectorXd cs(m), sn(m), g(m + 1), Av(n), r(n);
-  VectorXd aux_v;
+  VectorXd cs(m), sn(m), g(m + 1), Av(n), r(n), z, committed(m);
+  double margin = kGmresInexactMargin;
   while (true) {
     // True residual at every (re)start.
     A(x, Av, aux, 0.0);
@@ -43,10 +43,11 @@ GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::Vecto
     g.setZero();
     g[0] = beta;
     int k = 0;
+    bool done = false;
     for (; k < m && res.iterations < opt.max_iterations; ++k) {
       // ‖r_k‖ = |g[k]|; the target is final after the first residual.
-      const double allowed = kGmresInexactMargin * target / std::abs(g[k]);
-      A(V[static_cast<size_t>(k)], Av, aux ? &W[static_cast<size_t>(k)] : nullptr, allowed);
+      const double allowed = margin * target / std::abs(g[k]);
+      committed[k] = A(V[static_cast<size_t>(k)], Av, aux ? &W[static_cast<size_t>(k)] : nullptr, allowed);
       ++res.iterations;
       for (int j = 0; j <= k; ++j) {  // modified Gram–Schmidt
         H(j, k) = dot(Av, V[static_cast<size_t>(j)]);
@@ -67,19 +68,32 @@ GmresResult gmres(const GmresOperator& A, const Eigen::VectorXd& b, Eigen::Vecto
       H(k + 1, k) = 0;
       g[k + 1] = -sn[k] * g[k];
       g[k] = cs[k] * g[k];
-      res.residual = std::abs(g[k + 1]);
+      // The true residual is within the recurrence's plus Σ |z_j| e_j (z: this cycle's solution).
+      double bound = 0;
+      if (committed.head(k + 1).any()) {
+        z = H.topLeftCorner(k + 1, k + 1).triangularView<Eigen::Upper>().solve(g.head(k + 1));
+        bound = z.cwiseAbs().dot(committed.head(k + 1));
+      }
+      res.residual = std::abs(g[k + 1]) + bound;
       if (res.residual <= target || h_next == 0) {  // converged, or the Krylov space is invariant
+        done = res.residual <= target;
+        ++k;
+        break;
+      }
+      if (bound > 0.5 * target) {  // the committed errors alone use most of the target
+        ++res.bound_restarts;
+        margin *= 0.25;
         ++k;
         break;
       }
     }
     // x += V z with H z = g (upper triangular k × k).
-    const VectorXd z = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
+    z = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
     for (int j = 0; j < k; ++j) {
       x += z[j] * V[static_cast<size_t>(j)];
       if (aux) *aux += z[j] * W[static_cast<size_t>(j)];
     }
-    if (res.residual <= target) {
+    if (done) {
       res.converged = true;
       return res;
     }

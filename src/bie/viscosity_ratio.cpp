@@ -61,18 +61,22 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   Points Y(n, 3), DY, Y0, DY0;
   // y ↦ R y = y + κ (I − P) Ã y, with aux = Ã y = A y + n̂ (aᵀy)/(aᵀn̂) (y has no rigid part).
   // GMRES applies R to its initial guess first: D_h of it came with the double layer's set-up.
-  // R's error is |κ| ≤ 1 times Ã's, and Ã = 2 D + a rank-one term: D may err by half the allowance.
+  // R's error is |κ| ≤ 1 times (I − P)Ã's (P is orthogonal in the weighted norm), and Ã = 2 D + an
+  // exact rank-one term: D may err by half the allowance, and R commits 2|κ| times D's bound (Ã y,
+  // the aux image, twice D's).
   const GmresOperator R = [&](const VectorXd& y, VectorXd& Ry, VectorXd* aux, double allowed_error) {
     Eigen::Map<VectorXd>(Y.data(), Y.size()) = y;
+    double committed = 0;
     if (Y0.size() > 0 && Y == Y0) {
       DY = DY0;
       Y0.resize(0, 3);  // used once
     } else {
-      D_.apply(Y, DY, 0.5 * allowed_error);
+      committed = D_.apply(Y, DY, 0.5 * allowed_error);
     }
     VectorXd Ay = 2.0 * flat(DY) + flat(nhat) * (flat(a).dot(y) / a_nhat);
     Ry = y + kappa * (Ay - project(Ay));
     if (aux) *aux = std::move(Ay);
+    return 2 * std::abs(kappa) * committed;
   };
   const VectorXd v = flat(v1), Pv = project(v);
   const VectorXd b = one_plus_kappa * (v - Pv);
@@ -146,6 +150,7 @@ ViscosityRatioStats ViscosityRatioSolver::solve(const Points& x, const Points& a
   }
   ++solves_;
   total_iterations_ += r.iterations;
+  bound_restarts_ += r.bound_restarts;
   max_iterations_seen_ = std::max(max_iterations_seen_, r.iterations);
   return st;
 }

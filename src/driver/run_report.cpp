@@ -123,7 +123,8 @@ nlohmann::json Simulation::Impl::summary() const {
                                   {"double_layer_set_up_seconds", D.setup_seconds()},
                                   {"double_layer_applications", D.applications()},
                                   {"double_layer_inexact_applications", D.inexact_applications()},
-                                  {"double_layer_apply_seconds", D.apply_seconds()}};
+                                  {"double_layer_apply_seconds", D.apply_seconds()},
+                                  {"gmres_bound_restarts", dyn->viscosity_ratio_solver()->bound_restarts()}};
     // The inexact Krylov steps by the FMM order they took (docs/boundary-integral.md §4.8.3).
     nlohmann::json by_order = nlohmann::json::object();
     for (const auto& t : D.inexact_fmm_uses()) by_order[std::to_string(t.order)] = t.applications;

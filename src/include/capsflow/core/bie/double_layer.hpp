@@ -69,9 +69,11 @@ class DoubleLayer {
   // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
   // 1e-5 the direct far field sums its pairs in single precision (where the build has AVX-512),
   // from 1e-4 the FMM back end uses FMMs of lower orders, the lower the larger the allowance
-  // (from 1e-4 and 1e-3: within a quarter of it relative to ‖u‖ in L2 and all of it in max,
-  // double_layer_fmm_tolerance, backend_choice.hpp).
-  void apply(const Points& u, Points& out, double allowed_error = 0);
+  // (tiers from 1e-4, 1e-3, 5e-3 and 1e-2: within a quarter of it relative to ‖u‖ in L2 and all of
+  // it in max, double_layer_fmm_tolerance, backend_choice.hpp). Returns the L2 error bound it
+  // committed, relative to ‖u‖: a tier's quarter of its allowance; the exact FMM's margin ×
+  // tolerance whatever the allowance; 0 for the direct sum in double.
+  double apply(const Points& u, Points& out, double allowed_error = 0);
 
   FarFieldBackend backend() const { return backend_; }
   const std::string& backend_reason() const { return reason_; }

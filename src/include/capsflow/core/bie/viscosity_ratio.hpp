@@ -81,6 +81,9 @@ class ViscosityRatioSolver {
   long solves() const { return solves_; }
   long total_iterations() const { return total_iterations_; }
   int max_iterations_seen() const { return max_iterations_seen_; }
+  // GMRES cycles ended because the inexact steps' committed errors alone reached half the target
+  // (gmres.hpp): each costs an exact application; none is the expected case.
+  long bound_restarts() const { return bound_restarts_; }
   // The next trajectory solve's warm start, to put back after a solve off the trajectory (an
   // output between two steps).
   struct WarmStart {
@@ -102,7 +105,7 @@ class ViscosityRatioSolver {
   Eigen::VectorXd previous_y_, previous_b_, previous_residual_;
   bool have_previous_ = false;
   std::array<Eigen::VectorXd, Prediction::kSlots> kept_y_, kept_b_;  // the stages' solutions (Prediction)
-  long solves_ = 0, total_iterations_ = 0;
+  long solves_ = 0, total_iterations_ = 0, bound_restarts_ = 0;
   int max_iterations_seen_ = 0;
 };
 
