@@ -67,7 +67,7 @@ class DoubleLayer {
   void set_surface(const Points& x, const Points* u = nullptr, Points* Du = nullptr, bool on_trajectory = true);
   // out_i = D_h[u](x_i) on the surface of the last set_surface() (out is resized to N×3).
   // allowed_error: the error the caller accepts, relative to ‖u‖ (an inexact Krylov step): from
-  // 1e-5 the direct far field sums its pairs in single precision (where the build has AVX-512),
+  // 1e-3 the direct far field sums its pairs in single precision (where the build has AVX-512),
   // from 1e-4 the FMM back end uses FMMs of lower orders, the lower the larger the allowance
   // (tiers from 1e-4, 1e-3, 5e-3 and 1e-2: within a quarter of it relative to ‖u‖ in L2 and all of
   // it in max, double_layer_fmm_tolerance, backend_choice.hpp). Returns the L2 error bound it
