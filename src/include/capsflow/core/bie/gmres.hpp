@@ -12,7 +12,7 @@
 // J. Matrix Anal. Appl. 26, 2005): as the residual falls, the Krylov vectors' images matter less,
 // so each application is told the error it may commit — for a unit vector v_k, up to
 // kGmresInexactMargin · target / ‖r_k‖ in the weighted norm, r_k the residual before it — and
-// returns the error bound it did commit, e_k ≤ that allowance. With those errors the computed
+// returns the error bound it did commit, e_k. With those errors the computed
 // residual is not the true one: x = x0 + V z gives b − A x = (computed residual) + E z, E's columns
 // the errors (Simoncini & Szyld, §3), so the true residual is within the computed one plus
 // Σ_k |z_k| e_k — computable, and GMRES stops only when that sum is within the target. Should the
@@ -43,7 +43,8 @@ struct GmresResult {
 
 // y = A v (and, when aux is non-null, aux = aux(v)), with an error of at most `allowed_error` · ‖v‖
 // (weighted norm; 0: as exact as the operator can be); returns the bound of the error it committed,
-// relative to ‖v‖ (≤ allowed_error; 0 for an exact image). aux(v) may err likewise.
+// relative to ‖v‖: within allowed_error, or the operator's own floor where that is larger (the
+// double layer's exact FMM); 0 for an exact image. aux(v) may err likewise.
 using GmresOperator =
     std::function<double(const Eigen::VectorXd& v, Eigen::VectorXd& y, Eigen::VectorXd* aux, double allowed_error)>;
 // The allowance's share of the target: the a-posteriori bound above keeps the true residual within
