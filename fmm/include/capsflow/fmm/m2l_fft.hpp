@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -72,7 +73,7 @@ class M2lFft {
   std::size_t trg_spec_size() const { return static_cast<std::size_t>(nchunk_) * td_ * 2 * kChunk; }
   /// kernel spectrum block for chunk c and V offset o: [td*sd][re,im][kChunk]
   const double* kernel(int c, int o) const {
-    return kspec_.data() + (static_cast<std::size_t>(c) * kNumVOffsets + o) * (td_ * sd_ * 2 * kChunk);
+    return kspec_.get() + (static_cast<std::size_t>(c) * kNumVOffsets + o) * (td_ * sd_ * 2 * kChunk);
   }
   int src_dim() const { return sd_; }
   int trg_dim() const { return td_; }
@@ -102,12 +103,20 @@ class M2lFft {
                                     nullptr, 1, static_cast<int>(n3_), FFTW_MEASURE);
       single = fftw_plan_dft_r2c_3d(m_, m_, m_, rin.p, cout.p, FFTW_ESTIMATE);
     }
-    kspec_.assign(static_cast<std::size_t>(nchunk_) * kNumVOffsets * td_ * sd_ * 2 * kChunk, 0.0);
+    // Every frequency below nf_ of every V offset is written below (the spectra run to hundreds of
+    // MB at p ≥ 9: no zero pass first, and the threads' first writes spread the page faults);
+    // only the last chunk's padding frequencies are zeroed here.
+    const std::size_t block = static_cast<std::size_t>(td_) * sd_ * 2 * kChunk;
+    kspec_.reset(new double[static_cast<std::size_t>(nchunk_) * kNumVOffsets * block]);
+    for (int o = 0; o < kNumVOffsets; ++o)
+      std::fill_n(kspec_.get() + (static_cast<std::size_t>(nchunk_ - 1) * kNumVOffsets + o) * block, block, 0.0);
     const double h = 2.0 * kRadInner / (p - 1);
     const double norm = 1.0 / static_cast<double>(n3_);
 #pragma omp parallel
     {
+      // Every offset samples the same grid points: the rest of the grid is zeroed once.
       FftwBuffer<double> g(n3_ * td_ * sd_);
+      for (std::size_t i = 0; i < n3_ * td_ * sd_; ++i) g.p[i] = 0.0;
       FftwBuffer<fftw_complex> gc(nf_);
 #pragma omp for schedule(dynamic, 1)
       for (int o = 0; o < 343; ++o) {
@@ -115,7 +124,6 @@ class M2lFft {
         const int oi = v_offset_index(dx, dy, dz);
         if (oi < 0) continue;
         // sample K(D + h n), D = 2d (centres of half-width-1 boxes), n in [-(p-1), p-1]^3
-        for (std::size_t i = 0; i < n3_ * td_ * sd_; ++i) g.p[i] = 0.0;
         for (int nx = -(p - 1); nx <= p - 1; ++nx)
           for (int ny = -(p - 1); ny <= p - 1; ++ny)
             for (int nz = -(p - 1); nz <= p - 1; ++nz) {
@@ -135,7 +143,7 @@ class M2lFft {
           fftw_execute_dft_r2c(single, g.p + ab * n3_, gc.p);
           for (std::size_t f = 0; f < nf_; ++f) {
             const std::size_t c = f / kChunk, q = f % kChunk;
-            double* blk = kspec_.data() + (c * kNumVOffsets + oi) * (td_ * sd_ * 2 * kChunk) + ab * 2 * kChunk;
+            double* blk = kspec_.get() + (c * kNumVOffsets + oi) * (td_ * sd_ * 2 * kChunk) + ab * 2 * kChunk;
             blk[q] = gc.p[f][0];
             blk[kChunk + q] = gc.p[f][1];
           }
@@ -248,7 +256,7 @@ class M2lFft {
   int sd_ = 1, td_ = 1, m_ = 0, nchunk_ = 0;
   std::size_t n3_ = 0, nf_ = 0;
   fftw_plan fwd_ = nullptr, bwd_ = nullptr;
-  std::vector<double> kspec_;
+  std::unique_ptr<double[]> kspec_;  // uninitialised on allocation (see precompute)
   std::vector<int> gidx_;  // surface point -> index in the m^3 grid
 };
 
