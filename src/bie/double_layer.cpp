@@ -97,24 +97,18 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   backend_ = choose_backend(opt.backend, FarFieldKernel::DoubleLayer, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   double fmm_tolerance = 0;  // the iterations' FMM's (the refresh pass's below takes its own if stricter)
   if (backend_ == FarFieldBackend::Fmm) {
-    fmm::FmmOptions fo;
-    fo.tolerance = double_layer_fmm_tolerance(opt.tolerance);
-    fmm_tolerance = fo.tolerance;
-    fo.order = opt.fmm_order;
-    fo.leaf_size = opt.fmm_leaf_size;
-    fo.threads = threads_;
-    fmm_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fo);
+    fmm_tolerance = double_layer_fmm_tolerance(opt.tolerance);
+    fmm_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fmm_options(fmm_tolerance));
     // From the strictest allowance on, each tier only where its order is lower than the next
     // stricter one's (no cheaper order to gain otherwise).
     int stricter_order = fmm_->order();
     for (size_t k = std::size(kInexactFmmAllowedErrors); opt.fmm_order <= 0 && k-- > 0;) {
       const double allowed = kInexactFmmAllowedErrors[k];
-      fmm::FmmOptions fi = fo;
-      fi.tolerance = double_layer_fmm_tolerance(kInexactL2Share * allowed, allowed);
-      if (fmm::order_for_tolerance<fmm::Stresslet>(fi.tolerance) >= stricter_order) continue;
-      InexactFmm tier{allowed, std::make_unique<fmm::Fmm<fmm::Stresslet>>(fi)};
-      stricter_order = tier.fmm->order();
-      inexact_fmms_.insert(inexact_fmms_.begin(), std::move(tier));
+      const double tolerance = double_layer_fmm_tolerance(kInexactL2Share * allowed, allowed);
+      const int order = fmm::order_for_tolerance<fmm::Stresslet>(tolerance);
+      if (order >= stricter_order) continue;
+      stricter_order = order;
+      inexact_fmms_.insert(inexact_fmms_.begin(), InexactFmm{allowed, tolerance, order, nullptr});
     }
     direct_set_up_ = double_layer_set_up_direct(opt.backend, backend_, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   }
@@ -137,24 +131,28 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
     // The refresh pass at the order whose error (relative to the density, in max: the allowance's
     // norm) is a quarter of the allowance: its E is what the set-ups between reuse and extrapolate.
     const double refresh_max = kRefreshPassShare * kIdentityDriftShare * opt.tolerance;
-    fmm::FmmOptions fr;
-    fr.tolerance = double_layer_fmm_tolerance(refresh_max, refresh_max);
-    fr.order = opt.fmm_order;
-    fr.leaf_size = opt.fmm_leaf_size;
-    fr.threads = threads_;
-    if (opt.fmm_order <= 0 && fr.tolerance < fmm_tolerance) fmm_refresh_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fr);
+    const double tolerance = double_layer_fmm_tolerance(refresh_max, refresh_max);
+    if (opt.fmm_order <= 0 && tolerance < fmm_tolerance) fmm_refresh_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fmm_options(tolerance));
   }
 }
 
 DoubleLayer::~DoubleLayer() = default;
+fmm::FmmOptions DoubleLayer::fmm_options(double tolerance) const {
+  fmm::FmmOptions o;
+  o.tolerance = tolerance;
+  o.order = opt_.fmm_order;  // > 0: every FMM at that order (and no tiers or refresh pass of their own)
+  o.leaf_size = opt_.fmm_leaf_size;
+  o.threads = threads_;
+  return o;
+}
 int DoubleLayer::inexact_fmm_order() const {
   for (const InexactFmm& t : inexact_fmms_)
-    if (t.allowed_error <= std::end(kInexactFmmAllowedErrors)[-1]) return t.fmm->order();
+    if (t.allowed_error <= std::end(kInexactFmmAllowedErrors)[-1]) return t.order;
   return 0;
 }
 std::vector<DoubleLayer::InexactFmmUse> DoubleLayer::inexact_fmm_uses() const {
   std::vector<InexactFmmUse> uses;
-  for (const InexactFmm& t : inexact_fmms_) uses.push_back({t.allowed_error, t.fmm->order(), t.applications});
+  for (const InexactFmm& t : inexact_fmms_) uses.push_back({t.allowed_error, t.order, t.applications});
   return uses;
 }
 int DoubleLayer::fmm_order() const { return fmm_ ? fmm_->order() : 0; }
@@ -486,6 +484,7 @@ double DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
       break;
     }
   if (tier) {
+    if (!tier->fmm) tier->fmm = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fmm_options(tier->fmm_tolerance));
     if (!tier->ready) tier->fmm->setup(src_.data(), static_cast<std::size_t>(ns), x_.data(), static_cast<std::size_t>(n_nodes_));
     tier->ready = true;
     tier->fmm->evaluate(density_.data(), out.data());

@@ -45,6 +45,7 @@
 
 namespace capsflow {
 namespace fmm {
+struct FmmOptions;
 struct Stresslet;
 template <class K>
 class Fmm;
@@ -153,9 +154,12 @@ class DoubleLayer {
   std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_;  // backend Fmm: set up once per surface
   // Lower orders for inexact steps (backend Fmm), loosest allowance first; each set up on the first
   // inexact step of a surface that takes it.
+  fmm::FmmOptions fmm_options(double tolerance) const;  // the options every FMM here shares, at a tolerance
   struct InexactFmm {
     double allowed_error;
-    std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm;
+    double fmm_tolerance;       // the FMM's requested tolerance
+    int order;                  // the order it selects (fmm::order_for_tolerance)
+    std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm;  // built on the tier's first step (most runs take one or two tiers)
     bool ready = false;
     long applications = 0;
   };
