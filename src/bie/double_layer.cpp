@@ -253,14 +253,14 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
   // A surface whose far field is verified takes the FMM pass even where the set-up sums directly:
   // the check is of the FMM (set-up, operators, order) that every iteration on it uses.
   const bool verify_now = opt_.verify_every > 0 && setups_ % opt_.verify_every == 0;
-  bool refresh = true;
+  bool refresh = true, sample_called = false;
   if (reuse_) {
     corner_geometry(x);
     refresh = forced_refresh(on_trajectory, verify_now);
     extrapolation_ = sampled_drift_ = 0;
     if (!refresh) {
       sample_identity_drift();
-      refresh = on_trajectory && sampled_drift_ > kSampledDriftShare * kIdentityDriftShare * opt_.tolerance;
+      refresh = sample_called = on_trajectory && sampled_drift_ > kSampledDriftShare * kIdentityDriftShare * opt_.tolerance;
       if (!refresh && on_trajectory) max_reused_drift_ = std::max(max_reused_drift_, sampled_drift_);
     }
     clock.lap(times_, Phase::BieSources);
@@ -344,7 +344,7 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
     for (Eigen::Index i = 0; i < n_nodes_; ++i)
       for (int k = 0; k < 6; ++k) diagonal_[6 * static_cast<size_t>(i) + static_cast<size_t>(k)] -= unit_far_[6 * static_cast<size_t>(i) + static_cast<size_t>(k)];
   }
-  if (reuse_) reuse_identity_term(refresh, on_trajectory);
+  if (reuse_) reuse_identity_term(refresh, on_trajectory, sample_called);
   if (u) add_near_field(*u, *Du);
   clock.lap(times_, Phase::BieNear);
   setup_seconds_ += total.seconds();
@@ -583,7 +583,7 @@ Mat3 DoubleLayer::local_frame(const Points& x, Eigen::Index i) const {
   return R;
 }
 
-void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory) {
+void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory, bool sample_called) {
   // diagonal_ holds ½ I − D̃[1] from the pass on a refresh; otherwise ½ I − (C + R E Rᵀ) is imposed,
   // E = E1 + s (E1 − E0) (sample_identity_drift). refreshed_ per node, in the local frames of their
   // refreshes: E1, C1 (the last refresh), E0 (the one before).
@@ -592,8 +592,11 @@ void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory) {
   if (refreshed && !on_trajectory) return;
   // After a jump the older refresh lies on another surface: the line starts again from this one.
   const bool restart_line = refreshed && corner_change_ > kCornerJump;
-  const bool measure = refreshed && refresh_records_ > 0;
-  const double s = extrapolation_;  // a refresh measures the drift of the reuse it replaced
+  // A refresh the sample called measures, over all nodes, the drift of the reuse it replaced: how
+  // far the sample's estimate falls short of the whole surface's. Forced refreshes (the first, a
+  // corner jump, a verified surface) replace no reuse that the sample passed.
+  const bool measure = sample_called && refresh_records_ > 0;
+  const double s = extrapolation_;
   double drift = 0;
 #pragma omp parallel for schedule(static) reduction(max : drift) num_threads(threads_)
   for (Eigen::Index i = 0; i < n_nodes_; ++i) {
@@ -612,7 +615,10 @@ void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory) {
     }
   }
   if (!refreshed) return;
-  if (measure) max_drift_ = std::max(max_drift_, drift);
+  if (measure) {
+    max_drift_ = std::max(max_drift_, drift);
+    max_drift_over_sampled_ = std::max(max_drift_over_sampled_, drift / sampled_drift_);  // sampled_drift_ > 0 here
+  }
   refresh_records_ = restart_line ? 1 : std::min(refresh_records_ + 1, 2);
   ++refreshes_;
 }

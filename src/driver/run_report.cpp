@@ -133,6 +133,7 @@ nlohmann::json Simulation::Impl::summary() const {
     if (D.reuses_identity_term())
       summary["viscosity_ratio"]["identity_term"] = {{"refreshes", D.identity_refreshes()},
                                                      {"max_drift", D.identity_max_drift()},
+                                                     {"max_drift_over_sampled", D.identity_max_drift_over_sampled()},
                                                      {"max_reused_sampled_drift", D.identity_max_reused_drift()},
                                                      {"samples", D.identity_samples()},
                                                      {"refresh_fmm_order", D.refresh_fmm_order()}};

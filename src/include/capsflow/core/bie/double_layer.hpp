@@ -115,13 +115,16 @@ class DoubleLayer {
   Mat3 unit_constant_integral(Eigen::Index i) const;
   // The reuse of D̃[1]'s error term (flat facets, FMM back end; docs/boundary-integral.md §4.7.5):
   // whether it is on, the trajectory set-ups that refreshed the reused term by a full pass, the
-  // largest drift a refresh measured over all nodes (max of the Frobenius norm of fresh − reused:
-  // what a reuse there would have erred by), and the largest drift a reusing trajectory set-up
-  // measured at its sample of nodes (by direct sums).
+  // largest drift over all nodes that a refresh called by the sample measured (max of the Frobenius
+  // norm of fresh − reused: what the reuse there would have erred by; forced refreshes excluded),
+  // and the largest drift a reusing trajectory set-up measured at its sample of nodes (by direct sums).
   bool reuses_identity_term() const { return reuse_; }
   long identity_refreshes() const { return refreshes_; }
   double identity_max_drift() const { return max_drift_; }
   double identity_max_reused_drift() const { return max_reused_drift_; }
+  // The largest ratio of that all-node drift to the sampled drift that called the refresh: the
+  // sample's margin (kSampledDriftShare) assumes it stays below 2.
+  double identity_max_drift_over_sampled() const { return max_drift_over_sampled_; }
   // This set-up's: the drift at the samples, and s of the reuse E = E1 + s (E1 − E0) (both 0 on a
   // forced refresh; a refresh for a sampled drift keeps the values that called for it).
   double identity_sampled_drift() const { return sampled_drift_; }
@@ -135,7 +138,7 @@ class DoubleLayer {
   bool forced_refresh(bool on_trajectory, bool verify_now) const;  // no record yet, a jump, a verified surface
   void sample_identity_drift();  // extrapolation_ and sampled_drift_, after assemble_near_field
   Mat3 local_frame(const Points& x, Eigen::Index i) const;
-  void reuse_identity_term(bool refreshed, bool on_trajectory);  // after assemble_near_field
+  void reuse_identity_term(bool refreshed, bool on_trajectory, bool sample_called);  // after assemble_near_field
   void assemble_near_field(const Points& x);
   void fill_far_densities(const Points& u);                // density_ from u
   void add_near_field(const Points& u, Points& out) const;  // out += near blocks and diagonal times u
@@ -192,6 +195,7 @@ class DoubleLayer {
   std::vector<Mat3> sample_error_;             // E there in the local frames (sample_identity_drift's scratch)
   double extrapolation_ = 0;       // s of this set-up's reuse: E = E1 + s (E1 − E0)
   double sampled_drift_ = 0;       // the largest drift of that reuse at the samples
+  double max_drift_over_sampled_ = 0;
   double max_reused_drift_ = 0;    // the largest sampled drift of a trajectory set-up that reused
   std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_refresh_;  // the refresh pass's order, if above fmm_'s
   long refreshes_ = 0;
