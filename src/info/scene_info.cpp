@@ -163,7 +163,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   // dropped, boundary-integral.md §4.7.3); with the FMM
   // ~20 KB per element and the stresslet FMMs (operators and per-node buffers): the solve's order,
   // the D̃[1] refresh pass's and the inexact Krylov steps' four (p = 9, 10, 7, 6, 5, 4 at tolerance
-  // 1e-6; the rest of the 3.29 GB peak at λ = 5 and 81 920 elements, ~0.95 GB, of which p = 5 and 4
+  // 1e-6, the steps' built when first taken: an upper bound; the rest of the 3.29 GB peak at λ = 5 and 81 920 elements, ~0.95 GB, of which p = 5 and 4
   // add 47 MB; 2.3 GB of 4.82 before the leaf of 1 300 at p ≥ 9 took a tree level off,
   // perf/RESULTS.md §11.4).
   run["memory_double_layer_fmm_operators"] = false;

@@ -162,7 +162,7 @@ class DoubleLayer {
     double allowed_error;
     double fmm_tolerance;       // the FMM's requested tolerance
     int order;                  // the order it selects (fmm::order_for_tolerance)
-    std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm;  // built on the tier's first step (most runs take one or two tiers)
+    std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm;  // built on the tier's first step (short runs may never take p = 5 or 7)
     bool ready = false;
     long applications = 0;
   };
