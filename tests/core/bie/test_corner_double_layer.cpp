@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <vector>
 #include <random>
 
@@ -204,7 +205,8 @@ TEST(DoubleLayerIdentityReuse, ErrsByTheChangeOfTheQuadratureErrorOnly) {
   EXPECT_LT(c.reused, 0.03 * c.whole);  // C and the frames carry all but ~1 % of D̃[1]'s change
 }
 
-// A jump of the surface (a 10 % stretch) trips the guard: a full pass, not a reuse.
+// A jump of the whole surface (a 10 % stretch; at level 3 every node is sampled) is measured by the
+// sample, whose drift calls for a refresh: a full pass, not a reuse.
 TEST(DoubleLayerIdentityReuse, AJumpOfTheSurfaceForcesARefresh) {
   const ReuseCheck c = reuse_after([](const Points& x) {
     Points y = x;
@@ -213,6 +215,64 @@ TEST(DoubleLayerIdentityReuse, AJumpOfTheSurfaceForcesARefresh) {
   });
   EXPECT_EQ(c.refreshes, 2);
   EXPECT_LT(c.reused, 1e-12);  // the full pass itself
+}
+
+// The guard for what the sample cannot see (level 4: one node in five sampled): one node between
+// the samples, whose ring holds no sampled node, pushed out by a tenth of an edge, changes corner
+// values there alone, by far more than 1e-3 — a forced refresh (sampled drift 0), the full pass
+// exactly. The whole surface stretched by 5 %, which changes the corner values everywhere, sampled
+// nodes included, is left to the sample: at tolerance 1e-2 its drift stays under the threshold, and
+// the reuse stands.
+TEST(DoubleLayerIdentityReuse, ALocalJumpBetweenTheSamplesForcesARefresh) {
+  const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
+  Points x = m.vertices;
+  x.col(2) *= 1.5;
+  SingleLayerOptions opt;
+  opt.backend = BackendRequest::Fmm;
+  opt.fmm_order = 10;
+  opt.tolerance = 1e-2;
+  auto full_pass = [&](const Points& y) {
+    SingleLayerOptions o = opt;
+    o.reuse_identity_term = false;
+    auto F = std::make_unique<DoubleLayer>(m.triangles, m.num_nodes(), o);
+    F->set_surface(y);
+    return F;
+  };
+  auto error_against = [&](const DoubleLayer& D, const DoubleLayer& F) {
+    double e = 0;
+    for (Eigen::Index i = 0; i < x.rows(); ++i) e = std::max(e, (D.unit_constant_integral(i) - F.unit_constant_integral(i)).norm());
+    return e;
+  };
+  {
+    DoubleLayer D(m.triangles, m.num_nodes(), opt);
+    D.set_surface(x);
+    std::vector<char> near_a_sample(static_cast<size_t>(x.rows()), 0);
+    for (const int s : D.identity_sample_nodes())
+      for (Eigen::Index t = 0; t < m.triangles.rows(); ++t)
+        if ((m.triangles.row(t).array() == s).any())
+          for (int c = 0; c < 3; ++c) near_a_sample[static_cast<size_t>(m.triangles(t, c))] = 1;
+    Eigen::Index bumped = 0;
+    while (near_a_sample[static_cast<size_t>(bumped)]) ++bumped;
+    ASSERT_LT(bumped, x.rows());
+    Points y = x;
+    y.row(bumped) *= 1.003;  // the node 0.003–0.0045 out, ~a tenth of an edge (~0.04 at level 4)
+    D.set_surface(y);
+    EXPECT_EQ(D.identity_refreshes(), 2);
+    EXPECT_EQ(D.identity_sampled_drift(), 0.0);  // forced: the sample was not asked
+    EXPECT_LT(error_against(D, *full_pass(y)), 1e-12);  // the full pass itself
+  }
+  {
+    DoubleLayer D(m.triangles, m.num_nodes(), opt);
+    D.set_surface(x);
+    Points y = x;
+    y.col(0) *= 1.05;
+    D.set_surface(y);
+    const double error = error_against(D, *full_pass(y));
+    std::printf("5 %% stretch: sampled drift %.3e, reused against the full pass %.3e\n", D.identity_sampled_drift(), error);
+    EXPECT_EQ(D.identity_refreshes(), 1);
+    EXPECT_GT(D.identity_sampled_drift(), 0.0);  // measured, not forced
+    EXPECT_LT(error, 2 * D.identity_sampled_drift());  // the sample's margin of 2 over the nodes between
+  }
 }
 
 // A set-up off the trajectory (a probe, an output between steps) never refreshes, even where a

@@ -20,7 +20,7 @@
 // form) and the quadrature's error E_i = D̃[1](x_i) − C(x_i), which follows the surface slowly. E
 // is computed by a full pass on a refreshing set-up, kept in each node's local frame (so that it
 // turns with the surface), and reused with the current C on the set-ups between, whose far-field
-// pass is then the first application's alone: extrapolated along the last two refreshes, as far as
+// pass is then the first application's alone: extrapolated along the last two or three refreshes, as far as
 // a sample of nodes, where every set-up sums D̃[1] directly, says the surface went. A trajectory
 // set-up refreshes when the reuse would err at the sample by more than half of a quarter of the
 // tolerance (kIdentityDriftShare, kSampledDriftShare); the refresh pass runs at an order whose own
@@ -125,16 +125,17 @@ class DoubleLayer {
   // The largest ratio of that all-node drift to the sampled drift that called the refresh: the
   // sample's margin (kSampledDriftShare) assumes it stays below 2.
   double identity_max_drift_over_sampled() const { return max_drift_over_sampled_; }
-  // This set-up's: the drift at the samples, and s of the reuse E = E1 + s (E1 − E0) (both 0 on a
+  // This set-up's: the drift at the samples, and s of the reuse E = E1 + s (E1 − E0) + s2 (E0 − E−1) (0 on a
   // forced refresh; a refresh for a sampled drift keeps the values that called for it).
   double identity_sampled_drift() const { return sampled_drift_; }
   double identity_extrapolation() const { return extrapolation_; }
   std::size_t identity_samples() const { return samples_.size(); }
+  const std::vector<int>& identity_sample_nodes() const { return samples_; }
   int refresh_fmm_order() const;  // the refresh pass's FMM order (fmm_order() if not above it)
 
  private:
   void build_near_pattern();
-  void corner_geometry(const Points& x);  // corner_ and corner_change_ on a new surface
+  void corner_geometry(const Points& x);  // corner_, corner_change_ and jumped_ on a new surface
   bool forced_refresh(bool on_trajectory, bool verify_now) const;  // no record yet, a jump, a verified surface
   void sample_identity_drift();  // extrapolation_ and sampled_drift_, after assemble_near_field
   Mat3 local_frame(const Points& x, Eigen::Index i) const;
@@ -183,17 +184,20 @@ class DoubleLayer {
   // 1/8π. slot_ maps (node, listed element) to the blocks of its 3 vertices, in list order.
   std::vector<int> block_start_, block_col_, slot_start_, slot_;
   std::vector<double> block_, diagonal_;
-  // D̃[1]'s reuse (§4.7.5): the vertex fans, E = D̃[1] − C at the last two refreshes, the sample.
+  // D̃[1]'s reuse (§4.7.5): the vertex fans, E = D̃[1] − C at the last three refreshes, the sample.
   bool reuse_ = false;
   std::unique_ptr<CornerFans> fans_;
-  std::vector<double> refreshed_;  // per node: E1, C1 (the last refresh), E0 (the one before), local frames
+  std::vector<double> refreshed_;  // per node: E1, C1 (the last refresh), E0, E−1 (the two before), local frames
   std::vector<double> corner_;     // per node on the current surface: C (6), the local frame R (9), C in it (6)
-  int refresh_records_ = 0;        // how many of the two refreshes are kept
+  int refresh_records_ = 0;        // how many of the three refreshes are kept
   double corner_change_ = 0;       // the largest change of a local corner value since the last refresh
+  double sampled_corner_change_ = 0;  // the same over the sample
+  bool jumped_ = false;            // corner_change_ a jump the sample did not see (kCornerJump, kCornerOverSampled)
   std::vector<int> samples_;       // the nodes at which every set-up measures the reuse's drift
   std::vector<double> sample_x_, sample_far_;  // their positions, their direct far field of the unit constants
   std::vector<Mat3> sample_error_;             // E there in the local frames (sample_identity_drift's scratch)
-  double extrapolation_ = 0;       // s of this set-up's reuse: E = E1 + s (E1 − E0)
+  double extrapolation_ = 0;       // s, s2 of this set-up's reuse: E = E1 + s (E1 − E0) + s2 (E0 − E−1)
+  double extrapolation2_ = 0;
   double sampled_drift_ = 0;       // the largest drift of that reuse at the samples
   double max_drift_over_sampled_ = 0;
   double max_reused_drift_ = 0;    // the largest sampled drift of a trajectory set-up that reused
