@@ -304,7 +304,7 @@ const Section<FluidSpec>& fluid_keys() {
        boolean("reuse_identity_term", &FluidSpec::reuse_identity_term, true,
                "λ ≠ 1, flat facets, FMM back end: the double layer's D̃[1] is the polyhedron's exact corner value plus "
                "its quadrature error, which is computed by a full far-field pass only on refreshing set-ups and reused "
-               "between them, extrapolated from the last two refreshes, and refreshed when its drift, measured every "
+               "between them, extrapolated from the last two or three refreshes, and refreshed when its drift, measured every "
                "evaluation at about 512 nodes by direct sums, exceeds half of a quarter of `tolerance` "
                "(`docs/boundary-integral.md` §4.7.5); false: the full pass on every evaluation (to measure the reuse against)")}};
   return s;
