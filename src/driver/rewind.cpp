@@ -2,8 +2,9 @@
 // the loose tolerance until the wall folds at the mesh scale (the health monitors' own criterion:
 // grid-scale oscillation above its threshold) into creases (facet angles above
 // kAutoToleranceCreaseDeg); then the run starts again from t = 0 at the folded tolerance, in the
-// same folder, as a fresh run at that tolerance would — so its outputs are that run's, bit for
-// bit, and only its cost (the discarded part, in summary.json) differs.
+// same folder, as a fresh run at that tolerance would — so up to the crease time its outputs are
+// that run's, bit for bit. Past the time where the loose pass saw the creases it goes back to the
+// loose tolerance: once the creases have formed, the dynamics no longer amplify the error.
 #include <spdlog/spdlog.h>
 
 #include <fmt/core.h>
@@ -18,10 +19,27 @@ bool Simulation::Impl::tolerance_must_tighten() const {
          health->folding() && health->last().roughness.facet_angle_max > kAutoToleranceCreaseDeg;
 }
 
+// A state function, so that a restart builds the scheme with the tolerance the uninterrupted run
+// had there: tight after a rewind until the loose pass's crease time, and for good when the run
+// could not rewind (a restart into a new folder, below).
+bool Simulation::Impl::folded_tolerance_in_force() const {
+  return st.tolerance_tightened && !(st.rewind && st.t >= st.rewind->t);
+}
+
 Scene Simulation::Impl::stepping_scene() const {
   Scene s = scene;
-  if (s.time.tolerance_auto && st.tolerance_tightened) s.time.tolerance = kAutoToleranceFolded;
+  if (s.time.tolerance_auto && folded_tolerance_in_force()) s.time.tolerance = kAutoToleranceFolded;
   return s;
+}
+
+// Called after every accepted step (before its outputs and checkpoint): the step that passes the
+// crease time hands the rest of the run to the loose tolerance.
+void Simulation::Impl::relax_tolerance_past_creases(double t_step_start) {
+  if (!scene.time.tolerance_auto || !st.tolerance_tightened || !st.rewind) return;
+  if (!(t_step_start < st.rewind->t && st.t >= st.rewind->t)) return;
+  if (!stepper->set_tolerance(kAutoToleranceLoose)) return;
+  spdlog::info("γ̇t = {:.3g}: past the creases (seen at {:.3g} in the discarded pass); time.tolerance \"auto\" is back at {:g}",
+               st.t, st.rewind->t, kAutoToleranceLoose);
 }
 
 bool Simulation::Impl::tighten_tolerance() {
@@ -36,10 +54,10 @@ bool Simulation::Impl::tighten_tolerance() {
   }
   const AutoToleranceRewind discarded{st.t, st.step, rhs_evaluations(), wall_seconds()};
   spdlog::warn("the wall creases at the mesh scale at γ̇t = {:.3g} (facet angles up to {:.0f}°): time.tolerance \"auto\" "
-               "starts the run again from t = 0 at {:g} instead of {:g}, since the error made before the folds is "
-               "amplified while they form (docs/time-integration.md §5.8); {} steps, {} evaluations and {:.1f} s are "
-               "discarded",
-               discarded.t, health->last().roughness.facet_angle_max, kAutoToleranceFolded, kAutoToleranceLoose,
+               "starts the run again from t = 0 at {:g} up to γ̇t = {:.3g} and {:g} after, since the error made before the "
+               "folds is amplified while they form (docs/time-integration.md §5.8); {} steps, {} evaluations and {:.1f} s "
+               "are discarded",
+               discarded.t, health->last().roughness.facet_angle_max, kAutoToleranceFolded, discarded.t, kAutoToleranceLoose,
                discarded.steps, discarded.evaluations, discarded.seconds);
   // Everything a fresh run would start with; the run's cost so far stays counted.
   out.reset();

@@ -48,6 +48,7 @@ std::optional<StopReason> Simulation::Impl::step() {
   steady->add(st.t, surface_area(now), inertia_ellipsoid(now));
   const std::optional<StopReason> health_stop = observe_health();
   if (!health_stop && tolerance_must_tighten() && tighten_tolerance()) return std::nullopt;  // rewound to t = 0
+  relax_tolerance_past_creases(t_step_start);
   write_due_outputs(t_step_start);
   report_progress(false);
   if (health_stop) return stop(*health_stop);

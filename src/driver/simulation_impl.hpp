@@ -32,7 +32,7 @@ namespace capsflow {
 // time.tolerance = "auto" (stepping/auto_tolerance.hpp): the loose part of a run that was discarded
 // when the wall creased at the mesh scale and the run started again from t = 0 (rewind.cpp).
 struct AutoToleranceRewind {
-  double t = 0;            // γ̇t at which the creases were seen
+  double t = 0;            // γ̇t at which the creases were seen; the restarted run is tight until here
   long steps = 0;          // accepted steps of the discarded part
   long evaluations = 0;    // its right-hand-side evaluations (counted in the run's total)
   double seconds = 0;      // its wall time (counted in the run's total)
@@ -53,7 +53,7 @@ struct RunState {
   long rejected_steps = 0;         // steps retried with a smaller step (all segments)
   long rhs_evaluations = 0;        // right-hand-side evaluations of earlier segments
   double gmres_per_eval_max = 0;   // λ ≠ 1: the largest gmres_per_eval of a timeseries row (all segments)
-  bool tolerance_tightened = false;  // "auto": the folded tolerance is in force
+  bool tolerance_tightened = false;  // "auto": the creases were seen (the folded tolerance, until rewind->t)
   std::optional<AutoToleranceRewind> rewind;  // "auto": the discarded loose part, if any
   nlohmann::json extra() const;    // the checkpoint's "extra" entries of the run itself
   void set_extra(const nlohmann::json& e);
@@ -84,6 +84,8 @@ struct Simulation::Impl {
   // rewind.cpp: time.tolerance = "auto" once the wall creases at the mesh scale
   bool tolerance_must_tighten() const;
   bool tighten_tolerance();  // true: the run was rewound to t = 0
+  bool folded_tolerance_in_force() const;
+  void relax_tolerance_past_creases(double t_step_start);  // back to the loose tolerance past rewind->t
   std::optional<StopReason> stop(StopReason r);
   // run_output.cpp
   const Points& state_velocity();

@@ -182,6 +182,19 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   return rep;
 }
 
+bool Rkc::set_tolerance(double tol) {
+  if (!opt_.error_control) return false;
+  if (!(tol > 0)) throw std::invalid_argument("Rkc::set_tolerance: the tolerance must be positive");
+  // The error estimate grows like τ³: the step that meets the new tolerance as the proposal met the
+  // old one is τ (new/old)^(1/3); the last error, in units of the new tolerance, keeps the PI
+  // correction's ratio meaningful.
+  const double ratio = tol / opt_.tolerance;
+  tau_next_ *= std::cbrt(ratio);
+  err_prev_ /= ratio;
+  opt_.tolerance = tol;
+  return true;
+}
+
 void Rkc::interpolate(double theta, Points& x) const {
   if (!dense_valid_) throw std::logic_error("Rkc::interpolate: no accepted step to interpolate in");
   // Cubic Hermite basis on [0, 1]: values at both ends and slopes τ F at both ends.

@@ -216,9 +216,10 @@ TEST(TimeSchemes, RkcErrorFallsWithTheTolerance) {
 }
 
 // time.tolerance = "auto" (docs/time-integration.md §5.8): where the wall creases at the mesh scale
-// the run starts again from t = 0 at 1e-6 — and is then that run, row for row; where it does not,
-// it is the run at 1e-5. Table 1's GSMB α = 3 % case at 1280 elements creases at γ̇t ≈ 1.27
-// (facet angles 82°, measured 2026-12-02); the built-in scene folds from 1.35 but never creases
+// the run starts again from t = 0 at 5e-7 — and is then that run, row for row, up to the time where
+// the discarded pass saw the creases; after it, the loose tolerance again. Where the wall does not
+// crease, it is the run at 1e-5. Table 1's GSMB α = 3 % case at 1280 elements creases at γ̇t ≈ 1.26
+// (facet angles 81°, measured 2026-12-04); the built-in scene folds from 1.35 but never creases
 // (facet angles ≤ 54°).
 TEST(TimeSchemes, AutoToleranceIsTheTightRunWhereTheWallCreasesAndTheLooseOneElsewhere) {
   const fs::path aut = scratch("auto-creases"), tight = scratch("auto-tight"), smooth = scratch("auto-smooth"),
@@ -226,26 +227,37 @@ TEST(TimeSchemes, AutoToleranceIsTheTightRunWhereTheWallCreasesAndTheLooseOneEls
   const std::string creasing = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/paper_table1_nh_gsmb_alpha3.toml" +
                                " --set mesh.level=3 --set time.t_end=1.5";
   ASSERT_EQ(run(creasing, aut), 0);
-  ASSERT_EQ(run(creasing + " --set time.tolerance=1e-6", tight), 0);
-  const auto a = capsflow_test::series_rows(aut), b = capsflow_test::series_rows(tight);
-  ASSERT_EQ(a.size(), b.size());
-  ASSERT_EQ(a.size(), 16u);  // t = 0, 0.1, …, 1.5: the discarded loose rows are gone
-  for (size_t i = 0; i < a.size(); ++i) {
-    for (const auto& [column, value] : a[i]) {
-      if (column == "wall_seconds") continue;
-      EXPECT_EQ(value, b[i].at(column)) << column << " at row " << i;  // the same run: bit for bit
-    }
-  }
+  ASSERT_EQ(run(creasing + " --set time.tolerance=5e-7", tight), 0);
   const nlohmann::json sa = summary(aut), sb = summary(tight);
   const nlohmann::json& rewind = sa.at("time_tolerance").at("rewind");
   ASSERT_FALSE(rewind.is_null());
-  EXPECT_GT(rewind.at("t").get<double>(), 1.0);  // measured 1.27: where the facet angles pass 80°
-  EXPECT_LT(rewind.at("t").get<double>(), 1.5);
-  EXPECT_EQ(sa.at("time_tolerance").at("in_force"), 1e-6);
-  // The cost is counted: the run's evaluations are the tight run's plus the discarded ones.
-  EXPECT_EQ(sa.at("rhs_evaluations").get<long>(),
-            sb.at("rhs_evaluations").get<long>() + rewind.at("rhs_evaluations").get<long>());
-  EXPECT_EQ(sa.at("timing").at("rhs_evaluations"), sb.at("timing").at("rhs_evaluations"));  // the table: the kept run
+  const double t_creases = rewind.at("t").get<double>();
+  EXPECT_GT(t_creases, 1.0);  // measured 1.26: where the facet angles pass 80°
+  EXPECT_LT(t_creases, 1.4);  // leaves rows after it to compare
+  const auto a = capsflow_test::series_rows(aut), b = capsflow_test::series_rows(tight);
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.size(), 16u);  // t = 0, 0.1, …, 1.5: the discarded loose rows are gone
+  int after = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].at("t") <= t_creases) {
+      for (const auto& [column, value] : a[i]) {
+        if (column == "wall_seconds") continue;
+        EXPECT_EQ(value, b[i].at(column)) << column << " at row " << i;  // the same run: bit for bit
+      }
+    } else {
+      ++after;
+      // Past the creases, the loose tolerance: no longer the tight run, but within the 1e-4 that
+      // both keep against the quarter-step Heun reference (measured 3.1e-5 and 3.9e-5 to γ̇t = 5).
+      for (const char* d : {"D12", "D13", "D23"}) EXPECT_NEAR(a[i].at(d), b[i].at(d), 1e-4) << d << " at row " << i;
+    }
+  }
+  EXPECT_GE(after, 1);
+  EXPECT_EQ(sa.at("time_tolerance").at("in_force"), 1e-5);  // the loose one again at the end
+  // The cost is counted: the discarded evaluations are in the run's total, and the part past the
+  // creases is cheaper than the tight run's.
+  const long kept = sa.at("rhs_evaluations").get<long>() - rewind.at("rhs_evaluations").get<long>();
+  EXPECT_LT(kept, sb.at("rhs_evaluations").get<long>());
+  EXPECT_EQ(sa.at("timing").at("rhs_evaluations").get<long>(), kept);  // the table: the kept run
 
   ASSERT_EQ(run("--set time.t_end=1.6", smooth), 0);
   ASSERT_EQ(run("--set time.t_end=1.6 --set time.tolerance=1e-5", loose), 0);
@@ -284,10 +296,16 @@ TEST(TimeSchemes, AutoToleranceRewindSurvivesRestarts) {
   // summation order, as RkcRestartMatchesUninterruptedRun).
   EXPECT_LT((a.positions - b.positions).cwiseAbs().maxCoeff(), 1e-13);
   EXPECT_EQ(capsflow_test::series_rows(whole).size(), capsflow_test::series_rows(parts).size());
-  // After the rewind the checkpoint carries the tight tolerance: continuing it does not rewind again.
+  // After the rewind the checkpoint carries the creases' time: continuing it does not rewind again,
+  // and past that time it goes on at the loose tolerance as the uninterrupted run does.
   ASSERT_EQ(restart("1.75"), 0);
   const nlohmann::json s = summary(parts);
-  EXPECT_EQ(s.at("time_tolerance").at("in_force"), 1e-6);
+  EXPECT_EQ(s.at("time_tolerance").at("in_force"), 1e-5);
+  ASSERT_EQ(run(base + " --set time.t_end=1.75", whole), 0);
+  const auto c = capsflow::io::read_checkpoint(whole / "checkpoint.h5");
+  const auto d = capsflow::io::read_checkpoint(parts / "checkpoint.h5");
+  EXPECT_EQ(c.step, d.step);
+  EXPECT_LT((c.positions - d.positions).cwiseAbs().maxCoeff(), 1e-13);  // as above
   // The same step's time, carried through the checkpoint's JSON: 1e-12 allows the decimal round trip;
   // a second rewind would have moved it past 1.5.
   EXPECT_NEAR(s.at("time_tolerance").at("rewind").at("t").get<double>(),

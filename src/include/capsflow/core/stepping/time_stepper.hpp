@@ -51,6 +51,13 @@ class TimeStepper {
     throw std::logic_error("TimeStepper::interpolate: this scheme has no dense output");  // callers ask interpolates()
   }
 
+  // A scheme with error control (RKC) takes tolerance `tol` from its next step on, its controller's
+  // next proposal rescaled to it; false: this scheme has no tolerance (Heun, a fixed step).
+  virtual bool set_tolerance(double tol) {
+    (void)tol;
+    return false;
+  }
+
   // F at the current state when the scheme's last evaluation was there, so that what the
   // right-hand side holds (load, wall state) belongs to this state; nullptr otherwise.
   virtual const Points* velocity_at_state() const = 0;
