@@ -127,8 +127,10 @@ void Simulation::Impl::write_due_outputs(double t_step_start) {
   }
   if (scene.output.checkpoint_every > 0 &&
       time_reached(st.t, static_cast<double>(st.next_checkpoint) * scene.output.checkpoint_every, st.dt)) {
-    write_checkpoint(folder / io::kCheckpointFile);
+    // The index first: the checkpoint must name the next checkpoint time, not its own — RKC's steps
+    // stop at checkpoint times, and a restart from one naming itself would have no time left to step.
     st.next_checkpoint = next_index_after(st.t, scene.output.checkpoint_every, st.next_checkpoint, st.dt);
+    write_checkpoint(folder / io::kCheckpointFile);
   }
 }
 

@@ -161,6 +161,10 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
   st.next_output = restart_index(e.at("next_output").get<std::int64_t>(), stored.output.every, scene.output.every, st.t);
   st.next_checkpoint = restart_index(e.at("next_checkpoint").get<std::int64_t>(), stored.output.checkpoint_every,
                                      scene.output.checkpoint_every, st.t);
+  // Periodic checkpoints written before session 25 name their own time as the next one: step past it.
+  if (scene.output.checkpoint_every > 0 &&
+      time_reached(st.t, static_cast<double>(st.next_checkpoint) * scene.output.checkpoint_every, st.dt))
+    st.next_checkpoint = next_index_after(st.t, scene.output.checkpoint_every, st.next_checkpoint, st.dt);
   if (e.contains("health")) health->set_state(e.at("health"));
   last_output_t = st.t;
 }

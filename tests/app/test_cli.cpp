@@ -178,8 +178,9 @@ TEST(Cli, ExistingOutputIsRefusedAndLeftUntouched) {
 TEST(Cli, TooLargeFixedStepStopsCleanlyAsBlowUp) {
   TempDir d;
   const fs::path out = d.path / "out";
-  // dt = 0.5 is ~30× the membrane stability limit of this mesh: the run must stop by itself.
-  const Result r = run(std::string("run ") + kTiny + " --set time.dt=0.5 --set time.t_end=20 -o " + out.string(), d.path);
+  // dt = 0.5 is ~30× Heun's membrane stability limit of this mesh: the run must stop by itself.
+  const Result r =
+      run(std::string("run ") + kTiny + " --set time.scheme=heun --set time.dt=0.5 --set time.t_end=20 -o " + out.string(), d.path);
   EXPECT_EQ(r.code, 3) << r.err;
   std::ifstream in(out / "summary.json");
   const auto s = nlohmann::json::parse(in);
@@ -190,27 +191,49 @@ TEST(Cli, TooLargeFixedStepStopsCleanlyAsBlowUp) {
   EXPECT_NO_THROW(capsflow::io::read_checkpoint(out / "checkpoint.h5"));  // a valid, finite checkpoint
 }
 
+// Both schemes. Heun lands on every output time, so any of them is a point the uninterrupted run
+// passes too; RKC (the default) lands on checkpoint times and t_end only, so there the
+// interruption is at a checkpoint time — and resumes from a periodic checkpoint, which until
+// session 25 named its own time as the next checkpoint and left a restart no time to step.
 TEST(Cli, RestartMatchesUninterruptedRun) {
-  TempDir d;
-  const std::string base = std::string("run ") + kTiny + " --set output.every=0.05 --set output.checkpoint_every=0.1";
-  const Result a = run(base + " --set time.t_end=0.3 -o " + (d.path / "a").string(), d.path);
-  ASSERT_EQ(a.code, 0) << a.err;
-  const Result b1 = run(base + " --set time.t_end=0.15 -o " + (d.path / "b").string(), d.path);
-  ASSERT_EQ(b1.code, 0) << b1.err;
-  const Result b2 = run("run --threads 2 --restart " + (d.path / "b" / "checkpoint.h5").string() + " --set time.t_end=0.3", d.path);
-  ASSERT_EQ(b2.code, 0) << b2.err;
-  const auto ca = capsflow::io::read_checkpoint(d.path / "a" / "checkpoint.h5");
-  const auto cb = capsflow::io::read_checkpoint(d.path / "b" / "checkpoint.h5");
-  EXPECT_EQ(ca.step, cb.step);
-  EXPECT_DOUBLE_EQ(ca.t, 0.3);
-  EXPECT_DOUBLE_EQ(cb.t, 0.3);
-  // Same thread count, same operations in the same order: identical to round-off (in practice
-  // bit for bit; 1e-13 allows a different summation order in a library).
-  EXPECT_LT((ca.positions - cb.positions).cwiseAbs().maxCoeff(), 1e-13);
-  // The restarted folder holds one continuous series: 7 output rows (t = 0, 0.05, ..., 0.3).
-  std::ifstream csv(d.path / "b" / "timeseries.csv");
-  const std::string text(std::istreambuf_iterator<char>(csv), {});
-  EXPECT_EQ(count_lines(text), 1 + 7) << text;
+  for (const auto& [scheme, t_stop] : {std::pair<std::string, std::string>{"heun", "0.15"}, {"rkc", "0.2"}}) {
+    SCOPED_TRACE(scheme);
+    TempDir d;
+    const std::string base = std::string("run ") + kTiny + " --set time.scheme=" + scheme +
+                             " --set output.every=0.05 --set output.checkpoint_every=0.1";
+    const Result a = run(base + " --set time.t_end=0.3 -o " + (d.path / "a").string(), d.path);
+    ASSERT_EQ(a.code, 0) << a.err;
+    const Result b1 = run(base + " --set time.t_end=" + t_stop + " -o " + (d.path / "b").string(), d.path);
+    ASSERT_EQ(b1.code, 0) << b1.err;
+    const Result b2 = run("run --threads 2 --restart " + (d.path / "b" / "checkpoint.h5").string() + " --set time.t_end=0.3", d.path);
+    ASSERT_EQ(b2.code, 0) << b2.err;
+    const auto ca = capsflow::io::read_checkpoint(d.path / "a" / "checkpoint.h5");
+    const auto cb = capsflow::io::read_checkpoint(d.path / "b" / "checkpoint.h5");
+    EXPECT_EQ(ca.step, cb.step);
+    EXPECT_DOUBLE_EQ(ca.t, 0.3);
+    EXPECT_DOUBLE_EQ(cb.t, 0.3);
+    // Same thread count, same operations in the same order: identical to round-off (in practice
+    // bit for bit; 1e-13 allows a different summation order in a library).
+    EXPECT_LT((ca.positions - cb.positions).cwiseAbs().maxCoeff(), 1e-13);
+    // The restarted folder holds one continuous series: 7 output rows (t = 0, 0.05, ..., 0.3).
+    std::ifstream csv(d.path / "b" / "timeseries.csv");
+    const std::string text(std::istreambuf_iterator<char>(csv), {});
+    EXPECT_EQ(count_lines(text), 1 + 7) << text;
+    // A run killed between checkpoints continues from its last periodic one, in its folder: a run
+    // to 0.35 keeps the periodic checkpoint of 0.3 as checkpoint.prev.h5 beside the final one.
+    const fs::path c = d.path / "c";
+    ASSERT_EQ(run(base + " --set time.t_end=0.35 -o " + c.string(), d.path).code, 0);
+    const auto whole = capsflow::io::read_checkpoint(c / "checkpoint.h5");
+    fs::remove(c / "summary.json");
+    fs::rename(c / "checkpoint.prev.h5", c / "checkpoint.h5");
+    ASSERT_DOUBLE_EQ(capsflow::io::read_checkpoint(c / "checkpoint.h5").t, 0.3);
+    const Result c2 = run("run --threads 2 --restart " + (c / "checkpoint.h5").string(), d.path);
+    ASSERT_EQ(c2.code, 0) << c2.err;
+    const auto resumed = capsflow::io::read_checkpoint(c / "checkpoint.h5");
+    EXPECT_DOUBLE_EQ(resumed.t, 0.35);
+    EXPECT_EQ(resumed.step, whole.step);
+    EXPECT_LT((resumed.positions - whole.positions).cwiseAbs().maxCoeff(), 1e-13);  // as above
+  }
 }
 
 TEST(Cli, VersionPrintsGitAndDependencies) {
@@ -461,7 +484,8 @@ TEST(Cli, TheTimingTableHasTheCpuSecondsOfEveryPhase) {
 // output evaluates the velocity once more, and ρ is refreshed by power iteration every 50 steps.
 TEST(Cli, InfoPredictsTheEvaluationsOfAHeunRun) {
   TempDir d;
-  const std::string scene = "--set mesh.level=2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.2 --set time.t_end=0.5";
+  const std::string scene =
+      "--set mesh.level=2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.2 --set time.t_end=0.5 --set time.scheme=heun";
   const Result i = run("info " + scene, d.path);
   ASSERT_EQ(i.code, 0) << i.err;
   std::smatch m;
