@@ -18,8 +18,9 @@ from one moment. Heun is second order: the reference's own error is about |D(hal
 (Richardson: e(h/2) − e(h/4) = (1/4 − 1/16) C h² = 3 e(h/4)), which the table reports per case.
 
 The item (issue 23, 3.): at the default settings, D_ij within 1e-4 of the reference at every output time
-with at least 5× fewer evaluations than `heun`. The default scheme is `auto`: RKC (tolerance "auto") for a
-GSMB wall, Heun for a membrane, so the membrane's default row is `heun` itself (1×).
+with at least 5× fewer evaluations than `heun`. The default scheme is `auto`: RKC (tolerance "auto") for
+every wall since session 25 (before, Heun for a membrane, whose default row was then `heun` itself, 1×), so
+the default row is `rkc_auto`; `--membrane-default-heun` marks `heun` instead, for binaries before it.
 
 Runs go to WORK/<case>_L<level>/<variant>/ and are reused when their summary.json says t_end was
 reached with the same command line (WORK/.../cmd.txt); delete a folder to redo it.
@@ -54,10 +55,12 @@ CASES = {
     "builtin": (None, [], "built-in scene (scenes/quick.toml)"),
     # The a/b = 4 spheroid of TimeSchemes.RkcIsStableOnTheAspectFourSpheroid: the built-in scene, aspect 4.
     "ab4": (None, ["--set", "mesh.aspect=4"], "built-in scene at a/b = 4"),
+    # The large-deformation membrane benchmark (issue 15), to γ̇t = 8: Ca_s = 0.6, a soft membrane.
+    "nh_ca06": ("scenes/sphere_nh_shear_ca06.toml", [], "NH membrane sphere, Ca_s = 0.6 (large deformation)"),
 }
-# Built-in scene's t_end (scenes/quick.toml); the paper scenes end at 5.
-CASE_T_END = {"builtin": 2.0, "ab4": 2.0}
-T_END_MAX = 5.0
+# Cases' own t_end (scenes/quick.toml: 2; the issue-15 benchmark: 8); the paper scenes end at 5.
+CASE_T_END = {"builtin": 2.0, "ab4": 2.0, "nh_ca06": 8.0}
+T_END_DEFAULT = 5.0
 
 VARIANTS = {
     "rkc_auto": ["--set", "time.scheme=rkc"],
@@ -73,11 +76,12 @@ D_COLS = ["D12", "D13", "D23"]
 L_COLS = ["L1", "L2", "L3", "Le1", "Le2", "Le3"]
 ITEM_ERROR = 1e-4
 ITEM_GAIN = 5.0
+MEMBRANE_DEFAULT_HEUN = False  # --membrane-default-heun
 
 
 def run_one(exe, case, level, variant, opts, work, dry):
     scene, case_opts, _ = CASES[case]
-    t_end = min(T_END_MAX, CASE_T_END.get(case, T_END_MAX))
+    t_end = CASE_T_END.get(case, T_END_DEFAULT)
     folder = os.path.join(work, f"{case}_L{level}", variant)
     # Leading NAME=VALUE words of a variant set the environment (EXE=path: another binary).
     env, opts = dict(os.environ), list(opts)
@@ -176,7 +180,11 @@ def main():
     ap.add_argument("--out", default=None, help="prefix of OUT.jsonl and OUT.md (default perf/time/tolerance_L<levels>)")
     ap.add_argument("--dry-run", action="store_true")
     ap.add_argument("--no-run", action="store_true", help="only tabulate the runs that exist")
+    ap.add_argument("--membrane-default-heun", action="store_true",
+                    help="mark Heun as a membrane's default (binaries before session 25)")
     a = ap.parse_args()
+    global MEMBRANE_DEFAULT_HEUN
+    MEMBRANE_DEFAULT_HEUN = a.membrane_default_heun
 
     variants = dict(VARIANTS)
     order = [v for v in a.variants.split(",") if v]
@@ -257,7 +265,7 @@ def table(records):
         half = next((r for r in rs if r["variant"] == "half"), None)
         heun = next((r for r in rs if r["variant"] == "heun"), None)
         membrane = heun is not None and CASES[case][0] is not None and "membrane" in CASES[case][0]
-        default = "heun" if membrane else "rkc_auto"
+        default = "heun" if membrane and MEMBRANE_DEFAULT_HEUN else "rkc_auto"
         for r in rs:
             if r["variant"] == "ref":
                 continue

@@ -109,7 +109,7 @@ int info_command(const InfoOptions& opt) {
   } else {
     if (ts["tolerance_auto"].get<bool>())
       fmt::print("time step       error-controlled (tolerance auto: {:g} ℓ; if the wall creases at the mesh scale, the run starts "
-                 "again from t = 0 at {:g} ℓ); at a step of\n",
+                 "again from t = 0 at {:g} ℓ up to the creases); at a step of\n",
                  num(ts["tolerance"]), num(ts["tolerance_folded"]));
     else
       fmt::print("time step       error-controlled (tolerance {:g} ℓ); at a step of\n", num(ts["tolerance"]));

@@ -125,8 +125,8 @@ def test_info_is_what_the_command_line_prints(capsflow_exe):
     assert cli["valence"].split() == [f"{v}:{n}" for v, n in m["valence"].items()]
     assert cli["back end"] == f"{r['backend']} ({r['backend_reason']})"
     assert cli["stable dt"].startswith(f"{r['stable_dt']['limit']:.3e} at t = 0")
-    assert cli["time scheme"].startswith(r["scheme"]) and r["scheme"] == "heun"  # auto: a membrane wall
-    assert cli["time step"].startswith(f"{r['time_step']['dt']:.3e} (auto")
+    assert cli["time scheme"].startswith(r["scheme"]) and r["scheme"] == "rkc"  # auto: RKC for every wall
+    assert cli["time step"].startswith(f"error-controlled (tolerance auto: {r['time_step']['tolerance']:g} ℓ")
     # probed at 320 elements (as the command line does up to 20 480): measured, power iteration
     assert r["spectral_radius"]["method"] == "power_iteration" and r["seconds_per_evaluation"] > 0
     assert cli["spectral radius"].startswith(f"{r['spectral_radius']['value']:.3e} by power iteration")
