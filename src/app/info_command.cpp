@@ -86,8 +86,7 @@ int info_command(const InfoOptions& opt) {
     return std::isfinite(seconds_per_eval) ? fmt::format(", ~{:.0f} s", evals * seconds_per_eval) : std::string();
   };
   fmt::print("time scheme     {}{}\n", to_string(scene.time.scheme),
-             !scene.time.scheme_auto ? "" : scene.time.scheme == TimeScheme::Rkc ? " (auto: a wall with bending stiffness)"
-                                                                                 : " (auto: a membrane wall)");
+             scene.time.scheme_auto ? " (auto: RKC for every wall)" : "");
   auto count = [](double steps) {
     return steps < 1e15 ? fmt::format("{:.0f}", steps)
                         : std::isfinite(steps) ? fmt::format("{:.3g}", steps) : std::string("more than 1e308");

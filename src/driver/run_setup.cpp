@@ -199,9 +199,9 @@ void Simulation::Impl::log_set_up() const {
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
   if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
   if (scene.time.scheme_auto)
-    spdlog::info("time scheme: {} (auto: {})", to_string(scene.time.scheme),
-                 scene.wall.model == WallModel::Gsmb ? "error-controlled RKC for a wall with bending stiffness"
-                                                     : "Heun at its stability limit for a membrane wall");
+    spdlog::info("time scheme: {} (auto: error-controlled RKC, for every wall since session 25; "
+                 "time.scheme = \"heun\" for Heun at its stability limit)",
+                 to_string(scene.time.scheme));
 }
 
 }  // namespace capsflow
