@@ -35,7 +35,7 @@ Scene Simulation::Impl::stepping_scene() const {
 // Called after every accepted step (before its outputs and checkpoint): the step that passes the
 // crease time hands the rest of the run to the loose tolerance.
 void Simulation::Impl::relax_tolerance_past_creases(double t_step_start) {
-  if (!scene.time.tolerance_auto || !st.tolerance_tightened || !st.rewind) return;
+  if (!scene.time.tolerance_auto || !st.rewind) return;  // a rewind implies the creases were seen
   if (!(t_step_start < st.rewind->t && st.t >= st.rewind->t)) return;
   if (!stepper->set_tolerance(kAutoToleranceLoose)) return;
   spdlog::info("γ̇t = {:.3g}: past the creases (seen at {:.3g} in the discarded pass); time.tolerance \"auto\" is back at {:g}",

@@ -125,13 +125,21 @@ void Simulation::Impl::write_due_outputs(double t_step_start) {
     write_output();
     ++st.next_output;
   }
-  if (scene.output.checkpoint_every > 0 &&
-      time_reached(st.t, static_cast<double>(st.next_checkpoint) * scene.output.checkpoint_every, st.dt)) {
+  if (checkpoint_due()) {
     // The index first: the checkpoint must name the next checkpoint time, not its own — RKC's steps
     // stop at checkpoint times, and a restart from one naming itself would have no time left to step.
-    st.next_checkpoint = next_index_after(st.t, scene.output.checkpoint_every, st.next_checkpoint, st.dt);
+    advance_checkpoint_index();
     write_checkpoint(folder / io::kCheckpointFile);
   }
+}
+
+bool Simulation::Impl::checkpoint_due() const {
+  return scene.output.checkpoint_every > 0 &&
+         time_reached(st.t, static_cast<double>(st.next_checkpoint) * scene.output.checkpoint_every, st.dt);
+}
+
+void Simulation::Impl::advance_checkpoint_index() {
+  st.next_checkpoint = next_index_after(st.t, scene.output.checkpoint_every, st.next_checkpoint, st.dt);
 }
 
 // Health monitors after an accepted step (or at the start): logs each new episode once; the stop

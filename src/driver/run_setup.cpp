@@ -162,9 +162,7 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
   st.next_checkpoint = restart_index(e.at("next_checkpoint").get<std::int64_t>(), stored.output.checkpoint_every,
                                      scene.output.checkpoint_every, st.t);
   // Periodic checkpoints written before session 25 name their own time as the next one: step past it.
-  if (scene.output.checkpoint_every > 0 &&
-      time_reached(st.t, static_cast<double>(st.next_checkpoint) * scene.output.checkpoint_every, st.dt))
-    st.next_checkpoint = next_index_after(st.t, scene.output.checkpoint_every, st.next_checkpoint, st.dt);
+  if (checkpoint_due()) advance_checkpoint_index();
   if (e.contains("health")) health->set_state(e.at("health"));
   last_output_t = st.t;
 }
@@ -199,7 +197,7 @@ void Simulation::Impl::log_set_up() const {
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
   if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
   if (scene.time.scheme_auto)
-    spdlog::info("time scheme: {} (auto: error-controlled RKC, for every wall since session 25; "
+    spdlog::info("time scheme: {} (auto: error-controlled RKC, for every wall; "
                  "time.scheme = \"heun\" for Heun at its stability limit)",
                  to_string(scene.time.scheme));
 }

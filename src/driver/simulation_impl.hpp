@@ -80,6 +80,8 @@ struct Simulation::Impl {
   std::optional<StopReason> check_step(const StepAttempt& a);
   void roll_back();
   void write_due_outputs(double t_step_start);  // after a step from t_step_start to st.t
+  bool checkpoint_due() const;                  // st.t is the next periodic checkpoint's time
+  void advance_checkpoint_index();              // to the first checkpoint time after st.t
   std::optional<StopReason> observe_health();
   // rewind.cpp: time.tolerance = "auto" once the wall creases at the mesh scale
   bool tolerance_must_tighten() const;

@@ -223,7 +223,7 @@ const Section<TimeSpec>& time_keys() {
   static const Section<TimeSpec> s{
       "time", &Scene::time,
       {time_scheme("Heun at the stability-limited step (§5.1–5.2), or damped RKC2 with error control "
-                   "(`docs/time-integration.md` §5.7); `\"auto\"`: RKC, for every wall since session 25 "
+                   "(`docs/time-integration.md` §5.7); `\"auto\"`: RKC, for every wall "
                    "(§5.8; resolved when the scene is read; the log says which)"),
        time_tolerance("RKC: local error per step, RMS over nodes, in units of ℓ (§5.7); `\"auto\"`: 1e-5, and if the "
                       "wall creases at the mesh scale the run starts again from t = 0 at 5e-7 up to the creases, 1e-5 "
