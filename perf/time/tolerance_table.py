@@ -2,7 +2,8 @@
 """Issue 23 item 3: RKC's time tolerance against the error it delivers, per paper case and mesh level.
 
 For every case and level this runs (one simulation at a time, `--threads 1`, build/bin/capsflow):
-  rkc_auto                       RKC at time.tolerance = "auto", the default (docs/time-integration.md §5.8)
+  rkc_auto                       RKC at time.tolerance = "auto" (docs/time-integration.md §5.8)
+  rock4_auto                     ROCK4 at time.tolerance = "auto" (§5.9)
   rkc_1e-6, rkc_1e-5, rkc_5e-5   RKC at these tolerances
   heun                           Heun at its automatic step (dt_safety 0.7, the default): the cost to beat
   ref                            Heun at a quarter of the automatic step (time.dt_safety = 0.175)
@@ -64,6 +65,7 @@ T_END_DEFAULT = 5.0
 
 VARIANTS = {
     "rkc_auto": ["--set", "time.scheme=rkc"],
+    "rock4_auto": ["--set", "time.scheme=rock4"],  # ROCK4 at its own "auto" tolerance (§5.9)
     "rkc_1e-6": ["--set", "time.scheme=rkc", "--set", "time.tolerance=1e-6"],
     "rkc_1e-5": ["--set", "time.scheme=rkc", "--set", "time.tolerance=1e-5"],
     "rkc_5e-5": ["--set", "time.scheme=rkc", "--set", "time.tolerance=5e-5"],
@@ -71,12 +73,13 @@ VARIANTS = {
     "ref": ["--set", "time.scheme=heun", "--set", "time.dt_safety=0.175"],
     "half": ["--set", "time.scheme=heun", "--set", "time.dt_safety=0.35"],
 }
-ORDER = ["heun", "ref", "half", "rkc_auto", "rkc_1e-6", "rkc_1e-5", "rkc_5e-5"]
+ORDER = ["heun", "ref", "half", "rkc_auto", "rock4_auto", "rkc_1e-6", "rkc_1e-5", "rkc_5e-5"]
 D_COLS = ["D12", "D13", "D23"]
 L_COLS = ["L1", "L2", "L3", "Le1", "Le2", "Le3"]
 ITEM_ERROR = 1e-4
 ITEM_GAIN = 5.0
 MEMBRANE_DEFAULT_HEUN = False  # --membrane-default-heun
+DEFAULT_VARIANT = "rkc_auto"  # --default-variant: the row that the binary's defaults run
 
 
 def run_one(exe, case, level, variant, opts, work, dry):
@@ -180,11 +183,14 @@ def main():
     ap.add_argument("--out", default=None, help="prefix of OUT.jsonl and OUT.md (default perf/time/tolerance_L<levels>)")
     ap.add_argument("--dry-run", action="store_true")
     ap.add_argument("--no-run", action="store_true", help="only tabulate the runs that exist")
+    ap.add_argument("--default-variant", default="rkc_auto",
+                    help="the variant that runs the binary's default scheme and tolerance (rkc_auto, rock4_auto)")
     ap.add_argument("--membrane-default-heun", action="store_true",
                     help="mark Heun as a membrane's default (binaries before session 25)")
     a = ap.parse_args()
-    global MEMBRANE_DEFAULT_HEUN
+    global MEMBRANE_DEFAULT_HEUN, DEFAULT_VARIANT
     MEMBRANE_DEFAULT_HEUN = a.membrane_default_heun
+    DEFAULT_VARIANT = a.default_variant
 
     variants = dict(VARIANTS)
     order = [v for v in a.variants.split(",") if v]
@@ -265,7 +271,7 @@ def table(records):
         half = next((r for r in rs if r["variant"] == "half"), None)
         heun = next((r for r in rs if r["variant"] == "heun"), None)
         membrane = heun is not None and CASES[case][0] is not None and "membrane" in CASES[case][0]
-        default = "heun" if membrane and MEMBRANE_DEFAULT_HEUN else "rkc_auto"
+        default = "heun" if membrane and MEMBRANE_DEFAULT_HEUN else DEFAULT_VARIANT
         for r in rs:
             if r["variant"] == "ref":
                 continue

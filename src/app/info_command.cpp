@@ -106,12 +106,13 @@ int info_command(const InfoOptions& opt) {
     fmt::print("time step       {:.3e} (fixed): {} stages, about {} steps to t_end = {:g}: {} evaluations{}\n", num(ts["dt"]),
                ts["stages"].get<int>(), count(num(ts["steps"])), t_end, count(num(ts["evaluations"])), wall(num(ts["evaluations"])));
   } else {
-    if (ts["tolerance_auto"].get<bool>())
+    if (ts["tolerance_auto"].get<bool>() && ts.contains("tolerance_folded"))
       fmt::print("time step       error-controlled (tolerance auto: {:g} ℓ; if the wall creases at the mesh scale, the run starts "
                  "again from t = 0 at {:g} ℓ up to the creases); at a step of\n",
                  num(ts["tolerance"]), num(ts["tolerance_folded"]));
     else
-      fmt::print("time step       error-controlled (tolerance {:g} ℓ); at a step of\n", num(ts["tolerance"]));
+      fmt::print("time step       error-controlled (tolerance {}{:g} ℓ); at a step of\n",
+                 ts["tolerance_auto"].get<bool>() ? "auto: " : "", num(ts["tolerance"]));
     for (const nlohmann::json& at : ts["at"])
       fmt::print("  {:<6g}        {:>3} stages, {:.0f} evaluations to t_end = {:g}{}\n", num(at["dt"]), at["stages"].get<int>(),
                  num(at["evaluations"]), t_end, wall(num(at["evaluations"])));

@@ -103,7 +103,7 @@ nlohmann::json Simulation::Impl::summary() const {
       {"scheme", to_string(scene.time.scheme)}, {"rhs_evaluations", rhs_evaluations()},
       {"rejected_steps", st.rejected_steps}};
   stepper->summarize(summary, st.x, st.step);
-  if (scene.time.scheme == TimeScheme::Rkc && scene.time.dt_auto)  // the error-controlled step's tolerance
+  if (is_stabilized(scene.time.scheme) && scene.time.dt_auto)  // the error-controlled step's tolerance
     summary["time_tolerance"] = {{"auto", scene.time.tolerance_auto},
                                  {"in_force", stepping_scene().time.tolerance},
                                  {"rewind", st.rewind ? st.rewind->to_json() : nlohmann::json()}};

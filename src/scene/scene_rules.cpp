@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "capsflow/core/stepping/auto_tolerance.hpp"
 #include "key_table.hpp"
 
 namespace capsflow::scene_detail {
@@ -22,6 +23,8 @@ void derive(Scene& s) {
   // RKC for every wall since session 25: with the loose-again auto tolerance it keeps the membrane
   // cases within 1e-4 at 3.2–4.9× fewer evaluations than Heun (docs/time-integration.md §5.8).
   if (s.time.scheme_auto) s.time.scheme = TimeScheme::Rkc;
+  if (s.time.tolerance_auto && s.time.scheme == TimeScheme::Rock4)
+    s.time.tolerance = kAutoToleranceRock4;
 }
 
 namespace {

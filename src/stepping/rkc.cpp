@@ -91,6 +91,73 @@ void Rkc::refresh_rho(RightHandSide& f, const Points& x) {
   rho_stale_ = false;
 }
 
+Rkc::Rkc(Options opt) : opt_(std::move(opt)) {
+  beta_max_ = opt_.method == Method::Rock4
+                  ? Rock4Coefficients::stability_interval(std::min(opt_.max_stages, Rock4Coefficients::max_stages()))
+                  : RkcCoefficients::stability_interval(opt_.max_stages, opt_.damping);
+}
+
+long Rkc::rkc2_stages(RightHandSide& f, double tau, int s) {
+  if (k_.stages != s) k_ = RkcCoefficients::make(s, opt_.damping);
+  const RkcCoefficients& k = k_;
+  long evaluations = 0;
+  // Y_1 = Y_0 + μ̃_1 τ F(Y_0)
+  yjm2_ = y0_;
+  yjm1_.noalias() = y0_ + (k.mu_t[1] * tau) * f0_;
+  if (opt_.predict_stages && s >= 4) y1_ = yjm1_;
+  for (int j = 2; j <= s; ++j) {
+    f.evaluate(yjm1_, fj_, stage_hint(j - 1, yjm1_));
+    ++evaluations;
+    yj_.noalias() = (1 - k.mu[j] - k.nu[j]) * y0_ + k.mu[j] * yjm1_ + k.nu[j] * yjm2_ +
+                    (k.mu_t[j] * tau) * fj_ + (k.gamma_t[j] * tau) * f0_;
+    std::swap(yjm2_, yjm1_);
+    std::swap(yjm1_, yj_);
+  }
+  // yjm1_ = Y_s = y_{n+1}; its velocity is the next step's F_n.
+  if (opt_.project && yjm1_.allFinite()) opt_.project(yjm1_);
+  f.evaluate(yjm1_, f1_, stage_hint(s, yjm1_));
+  ++evaluations;
+  if (opt_.error_control) est_.noalias() = (12.0 / 15.0) * (y0_ - yjm1_) + (6.0 * tau / 15.0) * (f0_ + f1_);
+  return evaluations;
+}
+
+long Rkc::rock4_stages(RightHandSide& f, double tau, int s) {
+  if (k4_.stages != s) k4_ = Rock4Coefficients::make(s);
+  const Rock4Coefficients& k = k4_;
+  long evaluations = 0;
+  // Recurrence part: g_0 = y_n, g_1 = g_0 + μ_1 τ F(g_0), g_j = μ_j τ F(g_{j−1}) − ν_j g_{j−1} − κ_j g_{j−2}.
+  yjm2_ = y0_;
+  yjm1_.noalias() = y0_ + (k.mu[1] * tau) * f0_;
+  for (int j = 2; j <= s - 4; ++j) {
+    f.evaluate(yjm1_, fj_, {EvaluationHint::Role::Trajectory, j - 1});
+    ++evaluations;
+    yj_.noalias() = (k.mu[j] * tau) * fj_ - k.nu[j] * yjm1_ - k.kappa[j] * yjm2_;
+    std::swap(yjm2_, yjm1_);
+    std::swap(yjm1_, yj_);
+  }
+  // Finishing method from u_1 = g_{s−4} (in yjm1_; yjm2_ and yj_ are free).
+  const Points& u1 = yjm1_;
+  Points& u = yj_;
+  const int base = s - 4;
+  f.evaluate(u1, kw_[0], {EvaluationHint::Role::Trajectory, base});
+  u.noalias() = u1 + (k.a[0] * tau) * kw_[0];
+  f.evaluate(u, kw_[1], {EvaluationHint::Role::Trajectory, base + 1});
+  u.noalias() = u1 + (k.a[1] * tau) * kw_[0] + (k.a[2] * tau) * kw_[1];
+  f.evaluate(u, kw_[2], {EvaluationHint::Role::Trajectory, base + 2});
+  u.noalias() = u1 + (k.a[3] * tau) * kw_[0] + (k.a[4] * tau) * kw_[1] + (k.a[5] * tau) * kw_[2];
+  f.evaluate(u, kw_[3], {EvaluationHint::Role::Trajectory, base + 3});
+  evaluations += 4;
+  yjm2_.noalias() = u1 + tau * (k.b[0] * kw_[0] + k.b[1] * kw_[1] + k.b[2] * kw_[2] + k.b[3] * kw_[3]);
+  std::swap(yjm1_, yjm2_);  // yjm1_ = y_{n+1}
+  if (opt_.project && yjm1_.allFinite()) opt_.project(yjm1_);
+  f.evaluate(yjm1_, f1_, {EvaluationHint::Role::Trajectory, s});
+  ++evaluations;
+  if (opt_.error_control)
+    est_.noalias() = tau * ((k.b[0] - k.bhat[0]) * kw_[0] + (k.b[1] - k.bhat[1]) * kw_[1] + (k.b[2] - k.bhat[2]) * kw_[2] +
+                            (k.b[3] - k.bhat[3]) * kw_[3] - k.bhat[4] * f1_);
+  return evaluations;
+}
+
 double Rkc::proposed_step(RightHandSide& f, const Points& x) {
   if (tau_next_ > 0) return tau_next_;
   // First step: τ with the error of an Euler step, τ |F|/2, at the tolerance (then the controller
@@ -120,33 +187,15 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   }
   // Stage cap: a step that would need more stages is shortened to what the cap allows.
   if (tau * rho_ > beta_max_) tau = beta_max_ / rho_;
-  const int s = RkcCoefficients::stages_for(tau * rho_, opt_.damping);
-  if (k_.stages != s) k_ = RkcCoefficients::make(s, opt_.damping);
-  const RkcCoefficients& k = k_;
+  const bool rock4 = opt_.method == Method::Rock4;
+  const int s = rock4 ? Rock4Coefficients::stages_for(tau * rho_) : RkcCoefficients::stages_for(tau * rho_, opt_.damping);
   rep.tau = tau;
   rep.stages = s;
-
   y0_ = x;
-  // Y_1 = Y_0 + μ̃_1 τ F(Y_0)
-  yjm2_ = y0_;
-  yjm1_.noalias() = y0_ + (k.mu_t[1] * tau) * f0_;
-  if (opt_.predict_stages && s >= 4) y1_ = yjm1_;
-  for (int j = 2; j <= s; ++j) {
-    f.evaluate(yjm1_, fj_, stage_hint(j - 1, yjm1_));
-    ++rep.evaluations;
-    yj_.noalias() = (1 - k.mu[j] - k.nu[j]) * y0_ + k.mu[j] * yjm1_ + k.nu[j] * yjm2_ +
-                    (k.mu_t[j] * tau) * fj_ + (k.gamma_t[j] * tau) * f0_;
-    std::swap(yjm2_, yjm1_);
-    std::swap(yjm1_, yj_);
-  }
-  // yjm1_ = Y_s = y_{n+1}; its velocity is the next step's F_n.
-  if (opt_.project && yjm1_.allFinite()) opt_.project(yjm1_);
-  f.evaluate(yjm1_, f1_, stage_hint(s, yjm1_));
-  ++rep.evaluations;
+  rep.evaluations += rock4 ? rock4_stages(f, tau, s) : rkc2_stages(f, tau, s);
   if (!yjm1_.allFinite() || !f1_.allFinite()) {
     rep.error = std::numeric_limits<double>::infinity();
   } else if (opt_.error_control) {
-    est_.noalias() = (12.0 / 15.0) * (y0_ - yjm1_) + (6.0 * tau / 15.0) * (f0_ + f1_);
     rep.error = rms(est_) / opt_.tolerance;
   }
   rep.accepted = !opt_.error_control ? std::isfinite(rep.error) : rep.error <= 1.0;
@@ -158,11 +207,11 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
     dense_tau_ = tau;
     ++steps_since_rho_;
     if (opt_.error_control) {
-      double fac = rep.error > 0 ? kSafety * std::pow(rep.error, -1.0 / 3.0) : kMaxFactor;
+      double fac = rep.error > 0 ? kSafety * std::pow(rep.error, -1.0 / estimate_order()) : kMaxFactor;
       // Predictive (PI) correction after an accepted step, as in RKC: do not grow faster than the
       // error history supports.
       if (tau_prev_ > 0 && err_prev_ > 0 && rep.error > 0)
-        fac = std::min(fac, fac * (tau / tau_prev_) * std::pow(err_prev_ / rep.error, 1.0 / 3.0));
+        fac = std::min(fac, fac * (tau / tau_prev_) * std::pow(err_prev_ / rep.error, 1.0 / estimate_order()));
       if (last_rejected_) fac = std::min(fac, 1.0);
       tau_next_ = tau * std::clamp(fac, kMinFactor, kMaxFactor);
       tau_prev_ = tau;
@@ -173,7 +222,7 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
     last_rejected_ = false;
   } else {
     // The state is unchanged, and F_n with it. A rejection often means ρ moved: refresh it.
-    const double fac = std::isfinite(rep.error) ? kSafety * std::pow(rep.error, -1.0 / 3.0) : kMinFactor;
+    const double fac = std::isfinite(rep.error) ? kSafety * std::pow(rep.error, -1.0 / estimate_order()) : kMinFactor;
     tau_next_ = tau * std::clamp(fac, kMinFactor, 1.0);
     rho_stale_ = true;
     last_rejected_ = true;
@@ -185,11 +234,11 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
 bool Rkc::set_tolerance(double tol) {
   if (!opt_.error_control) return false;
   if (!(tol > 0)) throw std::invalid_argument("Rkc::set_tolerance: the tolerance must be positive");
-  // The error estimate grows like τ³: the step that meets the new tolerance as the proposal met the
-  // old one is τ (new/old)^(1/3); the last error, in units of the new tolerance, keeps the PI
-  // correction's ratio meaningful.
+  // The error estimate grows like τ^q (q = 3 for RKC2, 4 for ROCK4): the step that meets the new
+  // tolerance as the proposal met the old one is τ (new/old)^(1/q); the last error, in units of the
+  // new tolerance, keeps the PI correction's ratio meaningful.
   const double ratio = tol / opt_.tolerance;
-  tau_next_ *= std::cbrt(ratio);
+  tau_next_ *= std::pow(ratio, 1.0 / estimate_order());
   err_prev_ /= ratio;
   opt_.tolerance = tol;
   return true;
@@ -244,7 +293,9 @@ void Rkc::load(const nlohmann::json& extra, const Eigen::MatrixXd& matrix, const
   at_state_ = false;  // F(y_n) is restored, but the wall's last evaluation is the checkpoint's
 }
 
-std::string Rkc::status() const { return fmt::format("rkc s {:>3}", last_stages_); }
+std::string Rkc::status() const {
+  return fmt::format("{} s {:>3}", opt_.method == Method::Rock4 ? "rock4" : "rkc", last_stages_);
+}
 
 void Rkc::summarize(nlohmann::json& summary, const Points& x, long steps) const {
   summary["spectral_radius"] = rho_;

@@ -38,6 +38,7 @@ std::unique_ptr<TimeStepper> make_heun(const Scene& scene, const Triangles& tria
 
 std::unique_ptr<TimeStepper> make_rkc(const Scene& scene, const Triangles& triangles, double volume0) {
   Rkc::Options o;
+  o.method = scene.time.scheme == TimeScheme::Rock4 ? Rkc::Method::Rock4 : Rkc::Method::Rkc2;
   o.tolerance = scene.time.tolerance;
   o.error_control = scene.time.dt_auto;
   o.fixed_dt = scene.time.dt_auto ? 0.0 : scene.time.dt;
@@ -56,7 +57,8 @@ std::unique_ptr<TimeStepper> make_rkc(const Scene& scene, const Triangles& trian
 std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const Triangles& triangles, double volume0,
                                                const Points& x) {
   switch (scene.time.scheme) {
-    case TimeScheme::Rkc: return make_rkc(scene, triangles, volume0);
+    case TimeScheme::Rkc:
+    case TimeScheme::Rock4: return make_rkc(scene, triangles, volume0);
     case TimeScheme::Heun: return make_heun(scene, triangles, x);
     case TimeScheme::Auto: break;  // resolved when the scene is read
   }

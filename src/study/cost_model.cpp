@@ -51,7 +51,7 @@ double CostModel::predict(const std::string& family, long elements) const {
 }
 
 CostModel study_cost_model(const StudyPlan& plan, const std::vector<VariantRecord>& records) {
-  CostModel cost(plan.variants.front().scene.time.scheme == TimeScheme::Rkc ? 1.5 : 2.0);
+  CostModel cost(is_stabilized(plan.variants.front().scene.time.scheme) ? 1.5 : 2.0);
   for (std::size_t i = 0; i < records.size(); ++i)
     if (records[i].state == VariantState::Finished && records[i].result)
       cost.add(plan.variants[i].family, records[i].result->elements, records[i].result->wall_seconds);

@@ -47,7 +47,7 @@ int done(const StudyPlan& plan, const std::vector<VariantRecord>& records, const
 int run_sequentially(const StudyPlan& plan, const StudyOptions& o, std::vector<VariantRecord>& records) {
   const std::size_t n = plan.variants.size();
   CostModel cost = study_cost_model(plan, records);
-  const bool rkc = plan.variants.front().scene.time.scheme == TimeScheme::Rkc;
+  const bool rkc = is_stabilized(plan.variants.front().scene.time.scheme);
   auto open = [&](std::size_t j) { return records[j].state != VariantState::Finished && records[j].state != VariantState::Failed; };
   auto eta = [&](std::size_t after) {
     std::size_t left = 0;

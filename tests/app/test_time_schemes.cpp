@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "capsflow/core/io/checkpoint.hpp"
 #include "run_capsflow.hpp"
@@ -123,29 +125,32 @@ TEST(TimeSchemes, RotationSolveIsCountedPerKindOfEvaluation) {
 }
 
 TEST(TimeSchemes, RkcRestartMatchesUninterruptedRun) {
-  const fs::path a = scratch("restart-a"), b = scratch("restart-b");
-  // The first part must end where the uninterrupted run's steps land: with RKC's dense output a
-  // checkpoint time (output times lie between steps). Times exact in binary: with 0.05 and
-  // t_end = 0.15 it would not (3 × 0.05 = 0.15000000000000002): its last step lands an ulp short,
-  // and the rotation solve, converged to its 1e-10 rad in one Newton step from the stage
-  // predictor, turns that ulp into 1e-13 in the positions (measured 2.2e-13).
-  const std::string base =
-      "--set mesh.level=2 --set time.scheme=rkc --set output.every=0.0625 --set output.checkpoint_every=0.125";
-  ASSERT_EQ(run(base + " --set time.t_end=0.3125", a), 0);
-  ASSERT_EQ(run(base + " --set time.t_end=0.25", b), 0);
-  const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + (b / "checkpoint.h5").string() +
-                          " --set time.t_end=0.3125 > " + b.string() + ".log2 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0);
-  const auto ca = capsflow::io::read_checkpoint(a / "checkpoint.h5");
-  const auto cb = capsflow::io::read_checkpoint(b / "checkpoint.h5");
-  EXPECT_EQ(ca.step, cb.step);
-  EXPECT_DOUBLE_EQ(cb.t, 0.3125);
-  // Same thread count, same operations in the same order: bit for bit (1e-13 allows a library's
-  // summation order).
-  EXPECT_LT((ca.positions - cb.positions).cwiseAbs().maxCoeff(), 1e-13);
-  EXPECT_EQ(summary(a).at("rhs_evaluations"), summary(b).at("rhs_evaluations"));
-  for (const auto& p : {a, b}) fs::remove_all(p), fs::remove(p.string() + ".log");
-  fs::remove(b.string() + ".log2");
+  for (const std::string scheme : {"rkc", "rock4"}) {
+    SCOPED_TRACE(scheme);
+    const fs::path a = scratch("restart-a"), b = scratch("restart-b");
+    // The first part must end where the uninterrupted run's steps land: with RKC's dense output a
+    // checkpoint time (output times lie between steps). Times exact in binary: with 0.05 and
+    // t_end = 0.15 it would not (3 × 0.05 = 0.15000000000000002): its last step lands an ulp short,
+    // and the rotation solve, converged to its 1e-10 rad in one Newton step from the stage
+    // predictor, turns that ulp into 1e-13 in the positions (measured 2.2e-13).
+    const std::string base =
+        "--set mesh.level=2 --set time.scheme=" + scheme + " --set output.every=0.0625 --set output.checkpoint_every=0.125";
+    ASSERT_EQ(run(base + " --set time.t_end=0.3125", a), 0);
+    ASSERT_EQ(run(base + " --set time.t_end=0.25", b), 0);
+    const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + (b / "checkpoint.h5").string() +
+                            " --set time.t_end=0.3125 > " + b.string() + ".log2 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    const auto ca = capsflow::io::read_checkpoint(a / "checkpoint.h5");
+    const auto cb = capsflow::io::read_checkpoint(b / "checkpoint.h5");
+    EXPECT_EQ(ca.step, cb.step);
+    EXPECT_DOUBLE_EQ(cb.t, 0.3125);
+    // Same thread count, same operations in the same order: bit for bit (1e-13 allows a library's
+    // summation order).
+    EXPECT_LT((ca.positions - cb.positions).cwiseAbs().maxCoeff(), 1e-13);
+    EXPECT_EQ(summary(a).at("rhs_evaluations"), summary(b).at("rhs_evaluations"));
+    for (const auto& p : {a, b}) fs::remove_all(p), fs::remove(p.string() + ".log");
+    fs::remove(b.string() + ".log2");
+  }
 }
 
 // Dense output (docs/time-integration.md §5.7): RKC's steps land on checkpoints and t_end only,
@@ -195,22 +200,27 @@ TEST(TimeSchemes, RkcOutputsBetweenStepsDoNotMoveTheTrajectory) {
 }
 
 TEST(TimeSchemes, RkcErrorFallsWithTheTolerance) {
-  // 320 elements to γ̇t = 1 against Heun at a quarter of its auto step.
+  // 320 elements to γ̇t = 1 against Heun at a quarter of its auto step; RKC2, then ROCK4 (whose
+  // tolerance bounds its embedded third-order estimate: looser numbers for the same accuracy).
   const std::string base = "--set mesh.level=2 --set time.t_end=1";
   const fs::path ref = scratch("sweep-ref");
   ASSERT_EQ(run(base + " --set time.scheme=heun --set time.dt_safety=0.175", ref), 0);
-  double prev = INFINITY;
-  long prev_evals = 0;
-  for (const char* tol : {"1e-3", "1e-4", "1e-5"}) {
-    const fs::path p = scratch(std::string("sweep-") + tol);
-    ASSERT_EQ(run(base + " --set time.scheme=rkc --set time.tolerance=" + tol, p), 0);
-    int n = 0;
-    const double err = max_d13_difference(ref, p, &n);
-    EXPECT_LT(err, prev) << "tolerance " << tol;  // strictly more accurate
-    EXPECT_GT(summary(p).at("rhs_evaluations").get<long>(), prev_evals) << "tolerance " << tol;  // and dearer
-    prev = err;
-    prev_evals = summary(p).at("rhs_evaluations");
-    fs::remove_all(p), fs::remove(p.string() + ".log");
+  for (const auto& [scheme, tolerances] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"rkc", {"1e-3", "1e-4", "1e-5"}}, {"rock4", {"1e-1", "1e-2", "1e-3"}}}) {
+    double prev = INFINITY;
+    long prev_evals = 0;
+    for (const std::string& tol : tolerances) {
+      SCOPED_TRACE(scheme);
+      const fs::path p = scratch(std::string("sweep-") + tol);
+      ASSERT_EQ(run(base + " --set time.scheme=" + scheme + " --set time.tolerance=" + tol, p), 0);
+      int n = 0;
+      const double err = max_d13_difference(ref, p, &n);
+      EXPECT_LT(err, prev) << "tolerance " << tol;  // strictly more accurate
+      EXPECT_GT(summary(p).at("rhs_evaluations").get<long>(), prev_evals) << "tolerance " << tol;  // and dearer
+      prev = err;
+      prev_evals = summary(p).at("rhs_evaluations");
+      fs::remove_all(p), fs::remove(p.string() + ".log");
+    }
   }
   fs::remove_all(ref), fs::remove(ref.string() + ".log");
 }

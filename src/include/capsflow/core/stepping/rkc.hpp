@@ -1,6 +1,9 @@
 #pragma once
 // Damped second-order Runge–Kutta–Chebyshev (RKC2) with local error control: the default time
-// integrator (docs/time-integration.md §5.7). Why RKC2 and not ROCK2: both have stability
+// integrator (docs/time-integration.md §5.7) — and, with Method::Rock4, the fourth-order ROCK4
+// family (stepping/rock4_coefficients.hpp, §5.9), whose steps share everything below but the stages,
+// the error estimate (embedded third order, O(τ⁴): the controller's exponent 1/4) and the stage
+// count (ℓ_s ≈ 0.353 s²). The numbered outline below is RKC2's. Why RKC2 and not ROCK2: both have stability
 // intervals growing like s² (0.65 s² and 0.81 s²); RKC2's coefficients are closed-form (no stored
 // tables), it has a free embedded error estimate, and the capsule Jacobian's spectrum is real up to
 // the O(γ̇) flow terms, where ROCK2's better damping of imaginary parts buys nothing.
@@ -28,6 +31,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "capsflow/core/stepping/rkc_coefficients.hpp"
+#include "capsflow/core/stepping/rock4_coefficients.hpp"
 #include "capsflow/core/stepping/spectral_radius.hpp"
 #include "capsflow/core/stepping/time_stepper.hpp"
 #include "capsflow/core/types.hpp"
@@ -43,7 +47,12 @@ void stage_weights(const Points& y, const Points* const* states, int m, double* 
 
 class Rkc final : public TimeStepper {
  public:
+  // The stage scheme: damped RKC2 (second order, β ≈ 0.65 s²) or the fourth-order ROCK4 family
+  // (β ≈ 0.35 s², Rock4Coefficients). Everything else — ρ, the controller, dense output,
+  // checkpoints — is shared; the controller's exponent follows the estimate's order.
+  enum class Method { Rkc2, Rock4 };
   struct Options {
+    Method method = Method::Rkc2;
     double tolerance = 1e-4;      // local error per step, RMS over nodes, in units of ℓ
     bool error_control = true;
     double fixed_dt = 0;          // the step without error control (next_step)
@@ -70,8 +79,7 @@ class Rkc final : public TimeStepper {
     long evaluations = 0;  // right-hand-side evaluations of this attempt, ρ estimate included
   };
 
-  explicit Rkc(Options opt)
-      : opt_(std::move(opt)), beta_max_(RkcCoefficients::stability_interval(opt_.max_stages, opt_.damping)) {}
+  explicit Rkc(Options opt);
 
   // One attempt of size tau from x. Accepted: x ← y_{n+1}. Rejected: x unchanged.
   StepReport step(RightHandSide& f, Points& x, double tau);
@@ -109,6 +117,12 @@ class Rkc final : public TimeStepper {
 
  private:
   void refresh_rho(RightHandSide& f, const Points& x);
+  // The stages of one step of size tau from y0_ (F = f0_): y_{n+1} in yjm1_, F(y_{n+1}) in f1_, the
+  // error estimate in est_ (with error control); returns the evaluations.
+  long rkc2_stages(RightHandSide& f, double tau, int s);
+  long rock4_stages(RightHandSide& f, double tau, int s);
+  // The error estimate's order + 1: the controller's exponent is its inverse.
+  double estimate_order() const { return opt_.method == Method::Rock4 ? 4.0 : 3.0; }
   // The hint of the evaluation at stage point Y_m (m ≥ 1; yjm2_ = Y_{m−1}, yj_ = Y_{m−2}).
   EvaluationHint stage_hint(int m, const Points& y) const;
   double rms(const Points& v) const;
@@ -116,6 +130,8 @@ class Rkc final : public TimeStepper {
   Options opt_;
   double beta_max_;      // β(max_stages): the longest step the stage cap allows is β_max/ρ
   RkcCoefficients k_;    // of the last step; rebuilt only when the stage count changes
+  Rock4Coefficients k4_;  // the same for ROCK4
+  Points kw_[4];          // ROCK4: F at the finishing stages
   SpectralRadiusEstimator power_;
   double rho_ = 0, rho_refresh_ = 0, analytic_at_refresh_ = 0;
   long rho_evaluations_ = 0;

@@ -1,15 +1,18 @@
 #pragma once
-// The time integrators a scene can choose (time.scheme): damped RKC2 with error control
-// (stepping/rkc.hpp) or Heun at the stability-limited step (stepping/heun.hpp). "auto" (the
-// default) is resolved when the scene is read: RKC for a wall with bending stiffness (GSMB), Heun
-// for a membrane (docs/time-integration.md §5.7 gives the measurements behind the choice).
+// The time integrators a scene can choose (time.scheme): damped RKC2 or the fourth-order ROCK4,
+// both stabilised explicit steps with error control (stepping/rkc.hpp), or Heun at the
+// stability-limited step (stepping/heun.hpp). "auto" (the default) is resolved when the scene is
+// read: RKC for every wall (docs/time-integration.md §5.7–5.9 give the measurements behind it).
 #include "capsflow/core/named_enum.hpp"
 
 namespace capsflow {
 
-enum class TimeScheme { Rkc, Heun, Auto };
-inline constexpr NameTable<TimeScheme, 3> kTimeSchemeNames{
-    {{TimeScheme::Rkc, "rkc"}, {TimeScheme::Heun, "heun"}, {TimeScheme::Auto, "auto"}}};
+enum class TimeScheme { Rkc, Rock4, Heun, Auto };
+inline constexpr NameTable<TimeScheme, 4> kTimeSchemeNames{
+    {{TimeScheme::Rkc, "rkc"}, {TimeScheme::Rock4, "rock4"}, {TimeScheme::Heun, "heun"}, {TimeScheme::Auto, "auto"}}};
 constexpr const auto& name_table(TimeScheme) { return kTimeSchemeNames; }
+
+// RKC2 and ROCK4: stages from the spectral radius, a tolerance-controlled step, dense output.
+constexpr bool is_stabilized(TimeScheme s) { return s == TimeScheme::Rkc || s == TimeScheme::Rock4; }
 
 }  // namespace capsflow
