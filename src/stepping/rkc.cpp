@@ -14,6 +14,8 @@ namespace capsflow {
 namespace {
 // Step-size controller: the classic safety factor 0.8 and growth bounds [0.1, 10] of RKC.
 constexpr double kSafety = 0.8, kMinFactor = 0.1, kMaxFactor = 10.0;
+// The longest first ROCK4 step, in stages (see Rkc::step).
+constexpr int kRock4FirstStages = 20;
 }  // namespace
 
 void stage_weights(const Points& y, const Points* const* states, int m, double* w) {
@@ -187,6 +189,15 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   }
   // Stage cap: a step that would need more stages is shortened to what the cap allows.
   if (tau * rho_ > beta_max_) tau = beta_max_ / rho_;
+  // ROCK4's first step: at most kRock4FirstStages stages. Its tolerances are ~100× RKC2's numbers,
+  // so the first guess (τ|F|/2 at the tolerance) can span up to 152 stages before any estimate or
+  // rejection has checked ρ — on a Skalak wall at Ca_s = 1e-3 a stage's rotation solve diverged
+  // inside such a step (docs/time-integration.md §5.9). Shortening only what is that long leaves
+  // every other run as it was.
+  if (opt_.method == Method::Rock4 && tau_prev_ == 0 && !last_rejected_) {
+    const double first = Rock4Coefficients::stability_interval(kRock4FirstStages);
+    if (tau * rho_ > first) tau = first / rho_;
+  }
   const bool rock4 = opt_.method == Method::Rock4;
   const int s = rock4 ? Rock4Coefficients::stages_for(tau * rho_) : RkcCoefficients::stages_for(tau * rho_, opt_.damping);
   rep.tau = tau;
