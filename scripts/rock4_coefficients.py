@@ -12,7 +12,8 @@ Needs Debian's python3-numpy and python3-scipy. What it computes, per stage coun
    real parameters of the zeros solve the four order conditions R_s = 1 + z + z²/2 + z³/6 + z⁴/24 + O(z⁵)
    (Gauss-Newton, continued from s - 1); L is the largest value, by bisection, for which |R_s| ≤ 1 on
    [-L, 0] (sampled at 400 000 points). Abdulle's zeros come from the optimal polynomials instead; the
-   intervals agree within 0.4 % (test_rock4.cpp checks them against his Table 2.1).
+   intervals agree within 1 % (+0.9 % at s = 5, −0.07 % at s = 100; test_rock4.cpp checks them against
+   his Table 2.1).
 2. The finishing method W (four stages, 10 coefficients) such that the composite tableau of the
    recurrence part and W satisfies all eight order-4 conditions (nonlinear problems, not only the
    linear ones), chosen among the two-parameter family by least squares on the nine order-5 defects
