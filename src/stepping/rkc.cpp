@@ -193,8 +193,9 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   // so the first guess (τ|F|/2 at the tolerance) can span up to 152 stages before any estimate or
   // rejection has checked ρ — on a Skalak wall at Ca_s = 1e-3 a stage's rotation solve diverged
   // inside such a step (docs/time-integration.md §5.9). Shortening only what is that long leaves
-  // every other run as it was.
-  if (opt_.method == Method::Rock4 && tau_prev_ == 0 && !last_rejected_) {
+  // every other run as it was. Only a guess is capped: a fixed time.dt is the user's (and without
+  // error control tau_prev_ stays 0, so every step would look like a first one).
+  if (opt_.method == Method::Rock4 && opt_.error_control && tau_prev_ == 0 && !last_rejected_) {
     const double first = Rock4Coefficients::stability_interval(kRock4FirstStages);
     if (tau * rho_ > first) tau = first / rho_;
   }

@@ -192,3 +192,20 @@ TEST(Rock4, StiffLinearSystemMeetsTheTolerance) {
     EXPECT_LT(err, 10 * tol) << "tol " << tol;  // as RKC2's test: a few local errors on a dissipative problem
   }
 }
+
+TEST(Rock4, AFixedStepIsNeverShortenedByTheFirstStepCap) {
+  // ROCK4's first error-controlled step is capped at 20 stages (Rkc::step); a fixed step (no error
+  // control) is the user's and must be taken whole: here τρ ≈ 1200, far above ℓ_20 ≈ 139.
+  FunctionRhs f([](const Points& y, Points& v) { v = -1e4 * y; });
+  Rkc::Options o;
+  o.method = Rkc::Method::Rock4;
+  o.error_control = false;
+  Rkc rock4(o);
+  Points y = Points::Ones(4, 3);
+  for (int i = 0; i < 3; ++i) {
+    const Rkc::StepReport r = rock4.step(f, y, 0.1);
+    ASSERT_TRUE(r.accepted);
+    EXPECT_EQ(r.tau, 0.1) << "step " << i;  // exactly the step asked for
+    EXPECT_GT(r.stages, 20) << "step " << i;
+  }
+}
