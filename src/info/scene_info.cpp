@@ -157,7 +157,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     }
     run["time_step"] = {{"kind", "error_controlled"}, {"tolerance", scene.time.tolerance}, {"at", at},
                         {"tolerance_auto", scene.time.tolerance_auto}};
-    // Only RKC rewinds where the wall creases; ROCK4's "auto" is one tolerance per wall.
+    // Only RKC rewinds where the wall creases; ROCK4's "auto" is one tolerance (1e-3).
     if (scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rkc) run["time_step"]["tolerance_folded"] = kAutoToleranceFolded;
   }
   run["time_step"]["t_end"] = scene.time.t_end;

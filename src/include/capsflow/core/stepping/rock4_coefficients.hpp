@@ -5,8 +5,11 @@
 //
 // Its stability polynomial of degree s is R_s(z) = w4(z) P_{s−4}(z): w4 has two pairs of complex
 // zeros, P_{s−4} is the orthogonal polynomial for the weight w4(z)²/√(1 − x²) on the interval
-// z = ℓ_s (x − 1)/2, x ∈ [−1, 1], normalised P_j(0) = 1; the zeros make R_s = e^z + O(z⁵), ℓ_s is the
-// longest interval with |R_s| ≤ 1 on [−ℓ_s, 0] (≈ 0.353 s² for large s). A step of size τ from y_n:
+// z = L (x − 1)/2, x ∈ [−1, 1], normalised P_j(0) = 1; the zeros make R_s = e^z + O(z⁵), L is the
+// longest interval with |R_s| ≤ 1 on [−L, 0] and ℓ_s that interval measured on the step's own
+// polynomial (≈ 0.353 s² for large s; equal to L but for s = 117 and 119, whose finishing methods
+// exceed 1 by 8e-9 and 6e-9 at z ≈ −8.4: their ℓ_s is 8.39, so stages_for never picks them).
+// A step of size τ from y_n:
 //   g_0 = y_n,  g_1 = g_0 + μ_1 τ F(g_0),
 //   g_j = μ_j τ F(g_{j−1}) − ν_j g_{j−1} − κ_j g_{j−2},  j = 2..s−4   (−ν_j − κ_j = 1),
 // then the four-stage finishing method W from u_1 = g_{s−4}: u_i = u_1 + τ Σ_{k<i} a_ik F(u_k),
@@ -15,7 +18,7 @@
 // ŷ = u_1 + τ (Σ b̂_i F(u_i) + b̂_5 F(y_{n+1})) gives the error estimate y_{n+1} − ŷ, whose leading
 // linear term is z⁴/24 (that of Kutta's third-order method).
 //
-// The table holds, per s, ℓ_s, the zeros of w4 and W's and the embedded weights; μ, ν, κ follow
+// The table holds, per s, ℓ_s, L, the zeros of w4 and W's and the embedded weights; μ, ν, κ follow
 // from the zeros by the discretised Stieltjes procedure (exact: Gauss–Chebyshev quadrature of
 // degree above 2s).
 #include <array>
