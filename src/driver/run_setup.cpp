@@ -14,6 +14,7 @@
 #include "capsflow/core/io/run_identity.hpp"
 #include "capsflow/core/io/version.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
+#include "capsflow/core/stepping/auto_tolerance.hpp"
 #include "simulation_impl.hpp"
 
 namespace capsflow {
@@ -23,6 +24,9 @@ void Simulation::Impl::set_up() {
   threads = omp_get_max_threads();
   io::CheckpointState ck;
   set_up_folder(ck);
+  // ROCK4's "auto" tolerance follows the mesh (stepping/auto_tolerance.hpp), known only now.
+  if (scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rock4)
+    scene.time.tolerance = auto_tolerance_rock4(static_cast<long>(ref.num_elements()));
   mesh_hash = io::mesh_hash(ref.vertices, ref.triangles);
   make_parts();
   if (!opt.restart.empty()) restore(ck);

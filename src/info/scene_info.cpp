@@ -155,9 +155,12 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
       const double steps = estimated_steps(scene.time.t_end, landing_every, tau);
       at.push_back({{"dt", tau}, {"stages", s}, {"evaluations", steps * s + output_evaluations}});
     }
-    run["time_step"] = {{"kind", "error_controlled"}, {"tolerance", scene.time.tolerance}, {"at", at},
+    // ROCK4's "auto" follows the mesh (2e-3 × 1280/N); only RKC rewinds where the wall creases.
+    const bool rock4_auto = scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rock4;
+    run["time_step"] = {{"kind", "error_controlled"},
+                        {"tolerance", rock4_auto ? auto_tolerance_rock4(static_cast<long>(mesh.num_elements())) : scene.time.tolerance},
+                        {"at", at},
                         {"tolerance_auto", scene.time.tolerance_auto}};
-    // Only RKC rewinds where the wall creases; ROCK4's "auto" is one tolerance (1e-3).
     if (scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rkc) run["time_step"]["tolerance_folded"] = kAutoToleranceFolded;
   }
   run["time_step"]["t_end"] = scene.time.t_end;

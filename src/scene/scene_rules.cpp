@@ -23,8 +23,10 @@ void derive(Scene& s) {
   // RKC for every wall since session 25: with the loose-again auto tolerance it keeps the membrane
   // cases within 1e-4 at 3.2–4.9× fewer evaluations than Heun (docs/time-integration.md §5.8).
   if (s.time.scheme_auto) s.time.scheme = TimeScheme::Rkc;
+  // ROCK4's follows the mesh: the driver sets it once the mesh is built (auto_tolerance_rock4);
+  // until then, the value at 1 280 elements.
   if (s.time.tolerance_auto && s.time.scheme == TimeScheme::Rock4)
-    s.time.tolerance = kAutoToleranceRock4;
+    s.time.tolerance = kAutoToleranceRock4At1280;
 }
 
 namespace {

@@ -208,6 +208,7 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   if (!yjm1_.allFinite() || !f1_.allFinite()) {
     rep.error = std::numeric_limits<double>::infinity();
   } else if (opt_.error_control) {
+    if (opt_.filter_error) opt_.filter_error(est_);
     rep.error = rms(est_) / opt_.tolerance;
   }
   rep.accepted = !opt_.error_control ? std::isfinite(rep.error) : rep.error <= 1.0;

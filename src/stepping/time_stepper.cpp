@@ -2,9 +2,12 @@
 
 #include <spdlog/spdlog.h>
 
+#include <memory>
+
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/rhs/volume_constraint.hpp"
 #include "capsflow/core/scene/scene.hpp"
+#include "capsflow/core/stepping/grid_scale_filter.hpp"
 #include "capsflow/core/stepping/heun.hpp"
 #include "capsflow/core/stepping/rkc.hpp"
 #include "capsflow/core/stepping/stability.hpp"
@@ -49,6 +52,10 @@ std::unique_ptr<TimeStepper> make_rkc(const Scene& scene, const Triangles& trian
   // see: project each new state back onto the initial volume.
   if (scene.fluid.volume_correction)
     o.project = [triangles, volume0, scratch = Points()](Points& y) mutable { project_volume(y, triangles, volume0, scratch); };
+  if (o.method == Rkc::Method::Rock4) {
+    auto filter = std::make_shared<GridScaleFilter>(triangles, kRock4ErrorFilterPasses);
+    o.filter_error = [filter](Points& estimate) { filter->apply(estimate); };
+  }
   return std::make_unique<Rkc>(std::move(o));
 }
 

@@ -31,13 +31,17 @@ inline constexpr double kAutoToleranceCreaseDeg = 80.0;
 // creases, 1.2e-4; 5e-7 then 1e-5 keeps 9.0e-5 with fewer evaluations than 1e-6 throughout.
 inline constexpr double kAutoToleranceFolded = 5e-7;
 
-// ROCK4 (time.scheme = "rock4", docs/time-integration.md §5.9): one tolerance, no rewind. It bounds
-// the estimate of the embedded third-order solution, so the fourth-order solution the run keeps is
-// far more accurate than the number says. 1e-3 keeps D_ij within 1e-4 on every paper case at 1 280
-// elements and on Table 1 α = 3 % at 5 120 (5.1e-5, 5.5× fewer evaluations than Heun); 1e-2 would be
-// enough at 1 280 elements on the GSMB walls (7.1e-5 on α = 3 %) but not on the NH membrane (2.4e-4)
-// nor at 5 120 elements (1.7e-4 on α = 3 %). The NH membrane at 5 120 elements is the case it does
-// not hold: 1.5e-4 at 1e-3 (RKC's rewinding "auto" keeps 9.0e-5 there).
-inline constexpr double kAutoToleranceRock4 = 1e-3;
+// ROCK4 (time.scheme = "rock4", docs/time-integration.md §5.9–5.10): one tolerance per mesh, no
+// rewind. It bounds the grid-scale-filtered estimate of the embedded third-order solution, so the
+// fourth-order solution the run keeps is more accurate than the number says. It falls like the
+// element area, 1/N: where the wall creases at the mesh scale the error that matters is made at
+// that scale, and the space discretisation's own error falls about like h² ∝ 1/N (perf/RESULTS.md
+// §7: observed orders 1.3–2.3), so the time error stays the same fraction of it. At one value
+// for every mesh, Table 1 α = 3 % needed ≥ 2e-3 at 1 280 elements (1e-3: 4.9× fewer evaluations
+// than Heun) and ≤ 1e-3 at 5 120 (2e-3: D_ij off by 1.4e-4), §5.10.
+inline constexpr double kAutoToleranceRock4At1280 = 2e-3;
+inline double auto_tolerance_rock4(long elements) {
+  return elements > 0 ? kAutoToleranceRock4At1280 * 1280.0 / static_cast<double>(elements) : kAutoToleranceRock4At1280;
+}
 
 }  // namespace capsflow

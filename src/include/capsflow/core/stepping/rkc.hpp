@@ -70,6 +70,9 @@ class Rkc final : public TimeStepper {
     // of the combination of Y_0, Y_1, Y_{m−2}, Y_{m−1} closest to it (stage_weights), so that the
     // right-hand side starts its inner solve from the same combination of their solutions.
     bool predict_stages = true;
+    // Applied to the error estimate before its norm (may be empty). ROCK4 gets the grid-scale
+    // low-pass (stepping/grid_scale_filter.hpp): its estimate grows like |z| on the stiff modes.
+    std::function<void(Points&)> filter_error;
   };
   struct StepReport {
     bool accepted = false;
