@@ -71,6 +71,7 @@ bool Simulation::Impl::tighten_tolerance() {
   segment_clock.restart();
   steps_this_segment = 0;
   consecutive_rejections = 0;
+  consecutive_solver_failures = 0;
   last_output_t = -1;
   last_tank_treading = std::numeric_limits<double>::quiet_NaN();
   output_mark = RhsCounters{};

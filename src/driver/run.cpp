@@ -22,6 +22,10 @@ namespace {
 // An error test failing this often in a row means the step cannot be resolved (each rejection
 // shrinks the step by at least 1.25×: 50 of them, by 1e-5 at least).
 constexpr int kMaxConsecutiveRejections = 50;
+// A stage whose inner solve fails is retried in a step a quarter as long (schemes with error
+// control): a stage far from the last state can defeat the solve's warm start where a nearer one
+// does not. Three in a row (a step 64× shorter) and the failure stands.
+constexpr int kMaxRetriesAfterSolverFailure = 3;
 }  // namespace
 
 // One accepted step: what a step does, in order.
@@ -38,6 +42,7 @@ std::optional<StopReason> Simulation::Impl::step() {
     if (auto failed = attempt_step(a)) return failed;
   } while (!a.accepted);
   consecutive_rejections = 0;
+  consecutive_solver_failures = 0;
   const double t_step_start = st.t;
   st.dt = a.dt;
   if (auto blow_up = check_step(a)) return blow_up;
@@ -69,9 +74,15 @@ std::optional<StopReason> Simulation::Impl::attempt_step(StepAttempt& a) {
     if (step_makes_progress(st.t, dt)) a = stepper->attempt(*dyn, st.x, dt);
     update_far_checks();
   } catch (const SolverFailure& e) {
+    roll_back();
+    if (dt > 0 && ++consecutive_solver_failures <= kMaxRetriesAfterSolverFailure && stepper->shorten_after_failure(dt)) {
+      spdlog::warn("{} at t = {:g} in a step of {:.3g}: the step is rejected and tried again a quarter as long", e.what(), st.t, dt);
+      ++st.rejected_steps;
+      a = StepAttempt{false, dt, 0};
+      return std::nullopt;
+    }
     const StopReason r(StopKind::SolverFailure, fmt::format("{} at t = {:g}", e.what(), st.t));
     spdlog::error("{}; keeping the last healthy state", r.to_string());
-    roll_back();
     return stop(r);
   }
   if (!step_makes_progress(st.t, dt)) {

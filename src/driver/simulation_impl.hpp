@@ -136,6 +136,7 @@ struct Simulation::Impl {
   Stopwatch segment_clock, report_clock;
   long steps_this_segment = 0;
   int consecutive_rejections = 0;
+  int consecutive_solver_failures = 0;  // retried in shorter steps (run.cpp)
   double t_segment_start = 0;
   double last_output_t = -1;
   ShapeDiagnostics last_shape;

@@ -205,7 +205,8 @@ const Section<WallSpec>& wall_keys() {
        integer("max_newton", &WallSpec::max_newton, gsmb.max_newton, closed(1, 1000),
                "GSMB: iteration cap of the rotation Newton solve (usually 1–4 are used; up to 47 measured where a fold "
                "makes the rotation equilibrium a saddle, `docs/shell.md` §2.8); a solve that does not converge is retried "
-               "once from the nodal normals, then stops the run with `solver_failure`")}};
+               "once from the nodal normals; then, under error control, the step is tried again a quarter as long (three "
+               "times at most), and otherwise the run stops with `solver_failure`")}};
   return s;
 }
 

@@ -244,6 +244,15 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   return rep;
 }
 
+bool Rkc::shorten_after_failure(double tau) {
+  if (!opt_.error_control || !(tau > 0)) return false;
+  // As after a rejection: the state is unchanged, and ρ may have moved with whatever defeated the solve.
+  tau_next_ = 0.25 * tau;
+  rho_stale_ = true;
+  last_rejected_ = true;
+  return true;
+}
+
 bool Rkc::set_tolerance(double tol) {
   if (!opt_.error_control) return false;
   if (!(tol > 0)) throw std::invalid_argument("Rkc::set_tolerance: the tolerance must be positive");

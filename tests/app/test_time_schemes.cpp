@@ -349,3 +349,23 @@ TEST(TimeSchemes, AutoToleranceRewindSurvivesRestarts) {
   for (const auto& p : {whole, parts}) capsflow_test::remove_run(p);
   fs::remove(parts.string() + ".log2");
 }
+
+// A stage whose rotation solve fails is not the end of a run with error control: the step is
+// rejected and tried again a quarter as long (run.cpp). A GSMB Skalak sphere (C = 10) at Ca_s = 10
+// in planar hyperbolic flow, ROCK4: its fourth step (τ = 0.25 from γ̇t = 0.5) has a stage whose
+// Newton solve stalls at 1.4e-3 rad; before the retry the run stopped there with `solver_failure`
+// (session 27; RKC2 reached t_end). The shorter step converges and the run reaches γ̇t = 1.
+TEST(TimeSchemes, AStageWhoseRotationSolveFailsIsRetriedInAShorterStep) {
+  const fs::path dir = scratch("solver-retry");
+  ASSERT_EQ(run("--set mesh.level=3 --set wall.model=gsmb --set wall.thickness=0.03 --set wall.law=skalak "
+                "--set wall.skalak_c=10 --set flow.ca_s=10 --set mesh.shape=sphere --set flow.type=planar_hyperbolic "
+                "--set time.t_end=1 "
+                "--set time.scheme=rock4",
+                dir),
+            0);
+  const nlohmann::json s = summary(dir);
+  EXPECT_EQ(s.at("stop_reason"), "t_end");
+  EXPECT_GE(s.at("rejected_steps").get<long>(), 1);  // the retried step counts as rejected
+  EXPECT_NE(capsflow_test::slurp(dir.string() + ".log").find("tried again a quarter as long"), std::string::npos);
+  fs::remove_all(dir), fs::remove(dir.string() + ".log");
+}

@@ -103,6 +103,7 @@ class Rkc final : public TimeStepper {
   StepAttempt attempt(RightHandSide& f, Points& x, double dt) override;
   bool interpolates() const override { return opt_.error_control; }
   void interpolate(double theta, Points& x) const override;
+  bool shorten_after_failure(double dt) override;
   bool set_tolerance(double tol) override;
   const Points* velocity_at_state() const override { return at_state_ && f0_valid_ ? &f0_ : nullptr; }
   void forget_state() override { forget_velocity(); }

@@ -58,6 +58,14 @@ class TimeStepper {
     return false;
   }
 
+  // An inner solve failed inside an attempt of size dt and the driver rolled the state back: a
+  // scheme with error control takes a quarter of dt next, from the same state (true); false: it
+  // cannot shorten its step (Heun's is the stable one, a fixed dt is the user's).
+  virtual bool shorten_after_failure(double dt) {
+    (void)dt;
+    return false;
+  }
+
   // F at the current state when the scheme's last evaluation was there, so that what the
   // right-hand side holds (load, wall state) belongs to this state; nullptr otherwise.
   virtual const Points* velocity_at_state() const = 0;
