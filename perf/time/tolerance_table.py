@@ -3,7 +3,7 @@
 
 For every case and level this runs (one simulation at a time, `--threads 1`, build/bin/capsflow):
   rkc_auto                       RKC at time.tolerance = "auto" (docs/time-integration.md §5.8)
-  rock4_auto                     ROCK4 at time.tolerance = "auto" (§5.9)
+  rock4_auto                     ROCK4 at time.tolerance = "auto" (§5.9–5.10: 2e-3 × 1280/N)
   rkc_1e-6, rkc_1e-5, rkc_5e-5   RKC at these tolerances
   heun                           Heun at its automatic step (dt_safety 0.7, the default): the cost to beat
   ref                            Heun at a quarter of the automatic step (time.dt_safety = 0.175)
@@ -65,7 +65,7 @@ T_END_DEFAULT = 5.0
 
 VARIANTS = {
     "rkc_auto": ["--set", "time.scheme=rkc"],
-    "rock4_auto": ["--set", "time.scheme=rock4"],  # ROCK4 at its own "auto" tolerance (§5.9)
+    "rock4_auto": ["--set", "time.scheme=rock4"],  # ROCK4 at its own "auto" tolerance (§5.9–5.10)
     "rkc_1e-6": ["--set", "time.scheme=rkc", "--set", "time.tolerance=1e-6"],
     "rkc_1e-5": ["--set", "time.scheme=rkc", "--set", "time.tolerance=1e-5"],
     "rkc_5e-5": ["--set", "time.scheme=rkc", "--set", "time.tolerance=5e-5"],
