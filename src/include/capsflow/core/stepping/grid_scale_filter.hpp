@@ -7,7 +7,7 @@
 // Why: on a stiff mode z = τλ_J the embedded estimate of ROCK4 grows like |z| (b̂5 ≈ 2.09), and
 // ROCK4 damps those modes little (|R| ≈ 0.93), so the estimate measured the stiff residue rather
 // than the error of the motion and the controller shortened accurate steps (§5.9). RKC2 damps
-// them (its estimate filtered the same way changes its counts by 2 %), so only ROCK4 is filtered.
+// them (its estimate filtered the same way changes its counts by 1–3 %), so only ROCK4 is filtered.
 #include "capsflow/core/geometry/umbrella.hpp"
 #include "capsflow/core/types.hpp"
 
