@@ -83,6 +83,14 @@ double Rkc::rms(const Points& v) const {
 }
 
 void Rkc::refresh_rho(RightHandSide& f, const Points& x) {
+  // λ ≠ 1: after a rejected step the probes would be differenced against the discarded state's
+  // second-kind solve, and σ came out 10–240× too large (docs/time-integration.md §5.10).
+  if (probe_base_elsewhere_ && f.probes_difference_against_last_evaluation()) {
+    f.evaluate(x, f0_, {EvaluationHint::Role::Trajectory, 0});
+    ++rho_evaluations_;
+    f0_valid_ = true;
+  }
+  probe_base_elsewhere_ = false;
   const SpectralRadiusEstimator::Result r = power_.estimate(f, x, f0_);
   rho_evaluations_ += r.evaluations;
   rho_ = opt_.rho_margin * r.sigma;
@@ -167,6 +175,7 @@ double Rkc::proposed_step(RightHandSide& f, const Points& x) {
   if (!f0_valid_) {
     f.evaluate(x, f0_, {EvaluationHint::Role::Trajectory, 0});
     f0_valid_ = true;
+    probe_base_elsewhere_ = false;
   }
   const double v = rms(f0_);
   tau_next_ = v > 0 ? std::min(0.1, std::sqrt(opt_.tolerance / v)) : 0.1;
@@ -180,6 +189,7 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   if (!f0_valid_) {
     f.evaluate(x, f0_, {EvaluationHint::Role::Trajectory, 0});
     f0_valid_ = true;
+    probe_base_elsewhere_ = false;
     ++rep.evaluations;
   }
   if (rho_stale_ || steps_since_rho_ >= opt_.rho_refresh_steps) {
@@ -213,6 +223,7 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   }
   rep.accepted = !opt_.error_control ? std::isfinite(rep.error) : rep.error <= 1.0;
   at_state_ = rep.accepted;  // rejected: the last evaluation was at the discarded y_{n+1}
+  probe_base_elsewhere_ = !rep.accepted;
   if (rep.accepted) {
     x = yjm1_;
     std::swap(f0_, f1_);

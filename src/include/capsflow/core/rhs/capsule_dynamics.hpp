@@ -63,6 +63,7 @@ class CapsuleDynamics final : public RightHandSide {
   // A probe (a point off the trajectory, Role::Probe) leaves the second-kind solve's warm start as
   // it is. The hint also says which kind of evaluation the counters book it under.
   void evaluate(const Points& x, Points& v, const EvaluationHint& hint) override;
+  bool probes_difference_against_last_evaluation() const override { return viscosity_ != nullptr; }
   // The same; probe: Role::Probe, else a step's start state.
   void velocity(const Points& x, Points& v, bool probe = false) {
     evaluate(x, v, {probe ? EvaluationHint::Role::Probe : EvaluationHint::Role::Trajectory, 0});

@@ -55,6 +55,10 @@ class RightHandSide {
   // v = F(x); v is resized by the callee. Throws SolverFailure.
   virtual void evaluate(const Points& x, Points& v, const EvaluationHint& hint) = 0;
   void operator()(const Points& x, Points& v) { evaluate(x, v, EvaluationHint{}); }
+  // True when a probe's velocity is meant to be differenced against the last trajectory
+  // evaluation's (λ ≠ 1: the second-kind solve cancels the base's solver error only there,
+  // bie/viscosity_ratio.hpp): a power iteration must then start right after F at its own state.
+  virtual bool probes_difference_against_last_evaluation() const { return false; }
 };
 
 // A right-hand side given as a function (tests, model problems).

@@ -146,6 +146,10 @@ class Rkc final : public TimeStepper {
   double tau_next_ = 0, tau_prev_ = 0, err_prev_ = 0;
   bool last_rejected_ = false;
   bool at_state_ = false;  // the last evaluation was F(y_{n+1}) of an accepted step: the current state
+  // The right-hand side's last trajectory evaluation was not at the current state (a rejected
+  // step's was at its discarded y_{n+1}): a ρ refresh evaluates F there first where the right-hand
+  // side's probes difference against it (refresh_rho).
+  bool probe_base_elsewhere_ = false;
   // Dense output of the last accepted step: y_n = y0_, F_n = f1_, y_{n+1} = yjm1_, F_{n+1} = f0_.
   bool dense_valid_ = false;
   double dense_tau_ = 0;
