@@ -359,8 +359,7 @@ TEST(TimeSchemes, AStageWhoseRotationSolveFailsIsRetriedInAShorterStep) {
   const fs::path dir = scratch("solver-retry");
   ASSERT_EQ(run("--set mesh.level=3 --set wall.model=gsmb --set wall.thickness=0.03 --set wall.law=skalak "
                 "--set wall.skalak_c=10 --set flow.ca_s=10 --set mesh.shape=sphere --set flow.type=planar_hyperbolic "
-                "--set time.t_end=1 "
-                "--set time.scheme=rock4",
+                "--set time.t_end=1 --set time.scheme=rock4",
                 dir),
             0);
   const nlohmann::json s = summary(dir);
