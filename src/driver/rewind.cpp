@@ -1,10 +1,12 @@
-// time.tolerance = "auto" (stepping/auto_tolerance.hpp, docs/time-integration.md §5.8): RKC runs at
-// the loose tolerance until the wall folds at the mesh scale (the health monitors' own criterion:
-// grid-scale oscillation above its threshold) into creases (facet angles above
+// time.tolerance = "auto" (stepping/auto_tolerance.hpp, docs/time-integration.md §5.8, §5.11).
+// RKC2 runs at the loose tolerance until the wall folds at the mesh scale (the health monitors' own
+// criterion: grid-scale oscillation above its threshold) into creases (facet angles above
 // kAutoToleranceCreaseDeg); then the run starts again from t = 0 at the folded tolerance, in the
 // same folder, as a fresh run at that tolerance would — so up to the crease time its outputs are
 // that run's, bit for bit. Past the time where the loose pass saw the creases it goes back to the
 // loose tolerance: once the creases have formed, the dynamics no longer amplify the error.
+// ROCK4 needs no rewind (its tolerance up to the creases follows the mesh from t = 0): where it
+// sees the same creases it loosens, for the same reason.
 #include <spdlog/spdlog.h>
 
 #include <fmt/core.h>
@@ -14,9 +16,13 @@
 
 namespace capsflow {
 
+bool Simulation::Impl::wall_creased() const {
+  return health->folding() && health->last().roughness.facet_angle_max > kAutoToleranceCreaseDeg;
+}
+
 bool Simulation::Impl::tolerance_must_tighten() const {
   return scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rkc && scene.time.dt_auto && !st.tolerance_tightened &&
-         health->folding() && health->last().roughness.facet_angle_max > kAutoToleranceCreaseDeg;
+         wall_creased();
 }
 
 // A state function, so that a restart builds the scheme with the tolerance the uninterrupted run
@@ -29,6 +35,8 @@ bool Simulation::Impl::folded_tolerance_in_force() const {
 Scene Simulation::Impl::stepping_scene() const {
   Scene s = scene;
   if (s.time.tolerance_auto && folded_tolerance_in_force()) s.time.tolerance = kAutoToleranceFolded;
+  if (s.time.tolerance_auto && s.time.scheme == TimeScheme::Rock4 && st.creases_seen_at)
+    s.time.tolerance = auto_tolerance_rock4_past_creases(static_cast<long>(ref.num_elements()), s.wall.model == WallModel::Membrane);
   return s;
 }
 
@@ -40,6 +48,19 @@ void Simulation::Impl::relax_tolerance_past_creases(double t_step_start) {
   if (!stepper->set_tolerance(kAutoToleranceLoose)) return;
   spdlog::info("γ̇t = {:.3g}: past the creases (seen at {:.3g} in the discarded pass); time.tolerance \"auto\" is back at {:g}",
                st.t, st.rewind->t, kAutoToleranceLoose);
+}
+
+// Called after every accepted step: the step where ROCK4's run first sees the creases hands the
+// rest of the run (and any restart from a later checkpoint) to the looser tolerance.
+void Simulation::Impl::relax_rock4_tolerance_at_creases() {
+  if (!scene.time.tolerance_auto || scene.time.scheme != TimeScheme::Rock4 || !scene.time.dt_auto) return;
+  if (st.creases_seen_at || !wall_creased()) return;
+  st.creases_seen_at = st.t;
+  const double tol = stepping_scene().time.tolerance;
+  if (!stepper->set_tolerance(tol)) return;
+  spdlog::info("γ̇t = {:.3g}: the wall creases at the mesh scale (facet angles up to {:.0f}°); once formed, creases no longer "
+               "amplify the error: time.tolerance \"auto\" goes from {:g} to {:g} (docs/time-integration.md §5.11)",
+               st.t, health->last().roughness.facet_angle_max, scene.time.tolerance, tol);
 }
 
 bool Simulation::Impl::tighten_tolerance() {

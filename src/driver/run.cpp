@@ -54,6 +54,7 @@ std::optional<StopReason> Simulation::Impl::step() {
   const std::optional<StopReason> health_stop = observe_health();
   if (!health_stop && tolerance_must_tighten() && tighten_tolerance()) return std::nullopt;  // rewound to t = 0
   relax_tolerance_past_creases(t_step_start);
+  relax_rock4_tolerance_at_creases();
   write_due_outputs(t_step_start);
   report_progress(false);
   if (health_stop) return stop(*health_stop);

@@ -106,7 +106,8 @@ nlohmann::json Simulation::Impl::summary() const {
   if (is_stabilized(scene.time.scheme) && scene.time.dt_auto)  // the error-controlled step's tolerance
     summary["time_tolerance"] = {{"auto", scene.time.tolerance_auto},
                                  {"in_force", stepping_scene().time.tolerance},
-                                 {"rewind", st.rewind ? st.rewind->to_json() : nlohmann::json()}};
+                                 {"rewind", st.rewind ? st.rewind->to_json() : nlohmann::json()},
+                                 {"creases_seen_at", st.creases_seen_at ? nlohmann::json(*st.creases_seen_at) : nlohmann::json()}};
   summary["health"] = health->summary();
   // The flow-plane observables at the last output (docs/conventions.md §5.6; θ in degrees).
   summary["D_flow"] = last_plane_shape.D;

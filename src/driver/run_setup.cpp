@@ -24,9 +24,10 @@ void Simulation::Impl::set_up() {
   threads = omp_get_max_threads();
   io::CheckpointState ck;
   set_up_folder(ck);
-  // ROCK4's "auto" tolerance follows the mesh (stepping/auto_tolerance.hpp), known only now.
+  // ROCK4's "auto" tolerance follows the mesh (stepping/auto_tolerance.hpp), known only now: the
+  // scene keeps the one up to the creases; stepping_scene() the one in force.
   if (scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rock4)
-    scene.time.tolerance = auto_tolerance_rock4(static_cast<long>(ref.num_elements()));
+    scene.time.tolerance = auto_tolerance_rock4(static_cast<long>(ref.num_elements()), scene.wall.model == WallModel::Membrane);
   mesh_hash = io::mesh_hash(ref.vertices, ref.triangles);
   make_parts();
   if (!opt.restart.empty()) restore(ck);

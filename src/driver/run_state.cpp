@@ -8,7 +8,8 @@ nlohmann::json RunState::extra() const {
           {"area0", area0}, {"wall_seconds", wall_seconds_before}, {"rejected_steps", rejected_steps},
           {"rhs_evaluations", rhs_evaluations}, {"gmres_per_eval_max", gmres_per_eval_max},
           {"tolerance_tightened", tolerance_tightened},
-          {"auto_tolerance_rewind", rewind ? rewind->to_json() : nlohmann::json()}};
+          {"auto_tolerance_rewind", rewind ? rewind->to_json() : nlohmann::json()},
+          {"creases_seen_at", creases_seen_at ? nlohmann::json(*creases_seen_at) : nlohmann::json()}};
 }
 
 void RunState::set_extra(const nlohmann::json& e) {
@@ -24,6 +25,8 @@ void RunState::set_extra(const nlohmann::json& e) {
   tolerance_tightened = e.value("tolerance_tightened", false);  // since time.tolerance = "auto"
   if (e.contains("auto_tolerance_rewind") && !e.at("auto_tolerance_rewind").is_null())
     rewind = AutoToleranceRewind::from_json(e.at("auto_tolerance_rewind"));
+  if (e.contains("creases_seen_at") && !e.at("creases_seen_at").is_null())  // since ROCK4's looser past the creases
+    creases_seen_at = e.at("creases_seen_at").get<double>();
 }
 
 nlohmann::json AutoToleranceRewind::to_json() const {

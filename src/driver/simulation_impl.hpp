@@ -55,6 +55,7 @@ struct RunState {
   double gmres_per_eval_max = 0;   // λ ≠ 1: the largest gmres_per_eval of a timeseries row (all segments)
   bool tolerance_tightened = false;  // "auto": the creases were seen (the folded tolerance, until rewind->t)
   std::optional<AutoToleranceRewind> rewind;  // "auto": the discarded loose part, if any
+  std::optional<double> creases_seen_at;  // ROCK4's "auto": γ̇t where the run saw the creases (looser after)
   nlohmann::json extra() const;    // the checkpoint's "extra" entries of the run itself
   void set_extra(const nlohmann::json& e);
 };
@@ -84,10 +85,12 @@ struct Simulation::Impl {
   void advance_checkpoint_index();              // to the first checkpoint time after st.t
   std::optional<StopReason> observe_health();
   // rewind.cpp: time.tolerance = "auto" once the wall creases at the mesh scale
+  bool wall_creased() const;  // folded at the mesh scale into creases (the criterion of "auto")
   bool tolerance_must_tighten() const;
   bool tighten_tolerance();  // true: the run was rewound to t = 0
   bool folded_tolerance_in_force() const;
   void relax_tolerance_past_creases(double t_step_start);  // back to the loose tolerance past rewind->t
+  void relax_rock4_tolerance_at_creases();                 // ROCK4: looser from where the creases are seen
   std::optional<StopReason> stop(StopReason r);
   // run_output.cpp
   const Points& state_velocity();

@@ -231,7 +231,8 @@ const Section<TimeSpec>& time_keys() {
                       "wall creases at the mesh scale the run starts again from t = 0 at 5e-7 up to the creases, 1e-5 "
                       "after (§5.8; keeps D_ij within 1e-4 of the time-converged result on the paper's cases); with ROCK4 the "
                       "estimate is that of its embedded third-order solution with the grid-scale modes filtered out, and "
-                      "`\"auto\"` is 2e-3 × 1280/N for N elements, no rewind (§5.9–5.10)"),
+                      "`\"auto\"` is 2e-3 × 1280/N for N elements (a plain membrane: 2e-3 × (1280/N)^(8/3)) from "
+                      "t = 0, and 2e-3 (or that value, if looser) once the run sees the wall crease, no rewind (§5.9–5.11)"),
        time_dt("fixed step; `\"auto\"`: Heun takes `dt_safety` × the stability limit recomputed every step "
                "(`docs/time-integration.md` §5.2), RKC its error-controlled step; a fixed step may need at most " +
                    number_text(kMaxSteps) + " steps to `t_end`"),

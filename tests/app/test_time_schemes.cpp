@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -91,14 +92,24 @@ TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
   for (const auto& p : {ref, heun, rkc, fast, rock4}) fs::remove_all(p), fs::remove(p.string() + ".log");
 }
 
-// ROCK4's "auto" tolerance is 2e-3 × 1280/N (stepping/auto_tolerance.hpp): the run resolves it from
-// the element count of its mesh once the mesh is built, and reports it in summary.json.
+// ROCK4's "auto" tolerance is 2e-3 × 1280/N, for a plain membrane 2e-3 × (1280/N)^(8/3)
+// (stepping/auto_tolerance.hpp): the run resolves it from the element count of its mesh and its wall
+// once the mesh is built, and reports it in summary.json; `capsflow info` gives the same value and
+// the one past the creases.
 TEST(TimeSchemes, Rock4AutoToleranceFollowsTheElementCount) {
-  for (const auto& [level, expected] : std::vector<std::pair<int, double>>{{2, 8e-3}, {3, 2e-3}}) {
-    const fs::path dir = scratch("rock4-tolerance-L" + std::to_string(level));
-    ASSERT_EQ(run("--set time.scheme=rock4 --set time.t_end=0.02 --set mesh.level=" + std::to_string(level), dir), 0);
-    // 2e-3 · 1280/320 = 8e-3 and 2e-3 · 1280/1280: exact up to the division's rounding.
-    EXPECT_NEAR(summary(dir).at("time_tolerance").at("in_force").get<double>(), expected, 1e-15) << level;
+  // 2e-3 · 4 = 8e-3; 4^(8/3) = 2^(16/3) = 40.31747…: 2e-3 · 40.31747 = 0.0806349, 2e-3 / 40.31747 = 4.96063e-5.
+  const std::vector<std::tuple<int, std::string, double>> cases{
+      {2, "gsmb", 8e-3}, {3, "gsmb", 2e-3}, {2, "membrane", 0.0806349}, {3, "membrane", 2e-3}, {4, "membrane", 4.96063e-5}};
+  for (const auto& [level, wall, expected] : cases) {
+    const std::string what = wall + " at level " + std::to_string(level);
+    const fs::path dir = scratch("rock4-tolerance-" + wall + std::to_string(level));
+    const std::string args = "--set time.scheme=rock4 --set time.t_end=0.01 --set wall.model=" + wall +
+                             " --set mesh.level=" + std::to_string(level);
+    ASSERT_EQ(run(args, dir), 0) << what;
+    // The literals above have 6 significant digits: 1e-6 relative.
+    const nlohmann::json tolerance = summary(dir).at("time_tolerance");
+    EXPECT_NEAR(tolerance.at("in_force").get<double>(), expected, 1e-6 * expected) << what;
+    EXPECT_TRUE(tolerance.at("creases_seen_at").is_null()) << what;  // a sphere at γ̇t = 0.01
     fs::remove_all(dir), fs::remove(dir.string() + ".log");
   }
 }
@@ -347,6 +358,52 @@ TEST(TimeSchemes, AutoToleranceRewindSurvivesRestarts) {
   EXPECT_NEAR(s.at("time_tolerance").at("rewind").at("t").get<double>(),
               summary(whole).at("time_tolerance").at("rewind").at("t").get<double>(), 1e-12);
   for (const auto& p : {whole, parts}) capsflow_test::remove_run(p);
+  fs::remove(parts.string() + ".log2");
+}
+
+// ROCK4's "auto" (docs/time-integration.md §5.11) needs no rewind: its tolerance up to the creases
+// follows the mesh from t = 0, and the step where the run sees the wall crease hands the rest of
+// the run to 2e-3. Table 1's NH membrane at 5 120 elements: 2e-3 × (1280/5120)^(8/3) = 4.96e-5 up
+// to the creases (seen at γ̇t ≈ 0.52, facet angles 81°, measured 2026-12-04). A run continued from a
+// checkpoint before the creases sees them at the same step as the uninterrupted run; one continued
+// from after them keeps the looser tolerance.
+TEST(TimeSchemes, Rock4AutoToleranceLoosensWhereTheWallCreasesAndSurvivesRestarts) {
+  const fs::path whole = scratch("rock4-creases-whole"), parts = scratch("rock4-creases-parts");
+  // Checkpoint times exact in binary, where the uninterrupted run's steps land too.
+  const std::string base = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/paper_table1_nh_membrane.toml" +
+                           " --set mesh.level=4 --set time.scheme=rock4 --set output.checkpoint_every=0.125";
+  ASSERT_EQ(run(base + " --set time.t_end=0.625", whole), 0);
+  const nlohmann::json w = summary(whole).at("time_tolerance");
+  ASSERT_FALSE(w.at("creases_seen_at").is_null());
+  const double t_creases = w.at("creases_seen_at").get<double>();
+  EXPECT_GT(t_creases, 0.4);   // measured 0.52: the membrane buckles from γ̇t ≈ 0.36 ...
+  EXPECT_LT(t_creases, 0.625);  // ... and creases before the end of this run
+  EXPECT_EQ(w.at("in_force").get<double>(), 2e-3);  // looser past the creases: exactly the constant
+  EXPECT_TRUE(w.at("rewind").is_null());             // ROCK4 does not rewind
+
+  ASSERT_EQ(run(base + " --set time.t_end=0.375", parts), 0);  // before the creases
+  const nlohmann::json p = summary(parts).at("time_tolerance");
+  EXPECT_TRUE(p.at("creases_seen_at").is_null());
+  EXPECT_NEAR(p.at("in_force").get<double>(), 4.96063e-5, 1e-10);  // 6 digits of 2e-3 / 4^(8/3)
+  const auto restart = [&](const std::string& t_end) {
+    const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + (parts / "checkpoint.h5").string() +
+                            " --set time.t_end=" + t_end + " >> " + parts.string() + ".log2 2>&1";
+    return std::system(cmd.c_str());
+  };
+  ASSERT_EQ(restart("0.5"), 0);
+  ASSERT_EQ(restart("0.625"), 0);  // sees the creases in this segment
+  const auto a = capsflow::io::read_checkpoint(whole / "checkpoint.h5");
+  const auto b = capsflow::io::read_checkpoint(parts / "checkpoint.h5");
+  EXPECT_EQ(a.step, b.step);
+  // Same thread count, same operations in the same order: bit for bit (1e-13 allows a library's
+  // summation order, as RkcRestartMatchesUninterruptedRun).
+  EXPECT_LT((a.positions - b.positions).cwiseAbs().maxCoeff(), 1e-13);
+  // The same step's time through the checkpoint's JSON: 1e-12 allows the decimal round trip.
+  EXPECT_NEAR(summary(parts).at("time_tolerance").at("creases_seen_at").get<double>(), t_creases, 1e-12);
+  ASSERT_EQ(restart("0.75"), 0);  // from a checkpoint past the creases: the looser tolerance carried
+  EXPECT_EQ(summary(parts).at("time_tolerance").at("in_force").get<double>(), 2e-3);
+  EXPECT_NEAR(summary(parts).at("time_tolerance").at("creases_seen_at").get<double>(), t_creases, 1e-12);
+  for (const auto& q : {whole, parts}) capsflow_test::remove_run(q);
   fs::remove(parts.string() + ".log2");
 }
 
