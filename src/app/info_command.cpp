@@ -110,6 +110,10 @@ int info_command(const InfoOptions& opt) {
       fmt::print("time step       error-controlled (tolerance auto: {:g} ℓ; if the wall creases at the mesh scale, the run starts "
                  "again from t = 0 at {:g} ℓ up to the creases); at a step of\n",
                  num(ts["tolerance"]), num(ts["tolerance_folded"]));
+    else if (ts.contains("tolerance_past_creases"))
+      fmt::print("time step       error-controlled (tolerance auto: {:g} ℓ; {:g} ℓ from where the wall creases at the mesh "
+                 "scale); at a step of\n",
+                 num(ts["tolerance"]), num(ts["tolerance_past_creases"]));
     else
       fmt::print("time step       error-controlled (tolerance {}{:g} ℓ); at a step of\n",
                  ts["tolerance_auto"].get<bool>() ? "auto: " : "", num(ts["tolerance"]));
