@@ -57,7 +57,7 @@ void stage_weights(const Points& y, const Points* const* states, int m, double* 
   }
 }
 
-EvaluationHint Rkc::stage_hint(int m, const Points& y) const {
+EvaluationHint Rkc::stage_hint(int m, const Points& y, int keep_below) const {
   EvaluationHint h{EvaluationHint::Role::Trajectory, m};
   if (!opt_.predict_stages) return h;
   StagePredictor& p = h.predictor;
@@ -74,7 +74,22 @@ EvaluationHint Rkc::stage_hint(int m, const Points& y) const {
   double w[StagePredictor::kTerms];
   stage_weights(y, states, p.terms, w);
   for (int t = 0; t < p.terms; ++t) p.slot[t] = slots[t], p.weight[t] = w[t];
-  if (m < k_.stages) p.keep = 2 + m % 2;
+  if (m < keep_below) p.keep = 2 + m % 2;
+  return h;
+}
+
+// ROCK4's finishing stages lie within a short step of u_1 = g_{s−4}: predicted from Y_0, Y_1,
+// g_{s−5} and u_1 (whose evaluation kept its solution), none of them kept.
+EvaluationHint Rkc::finishing_hint(int m, const Points& y, int base) const {
+  EvaluationHint h{EvaluationHint::Role::Trajectory, m};
+  if (!opt_.predict_stages || base < 3) return h;  // Y_1 and g_{s−5} distinct
+  StagePredictor& p = h.predictor;
+  const Points* states[StagePredictor::kTerms] = {&y0_, &y1_, &yjm2_, &yjm1_};  // yjm2_ = g_{s−5}, yjm1_ = u_1
+  const int slots[StagePredictor::kTerms] = {0, 1, 2 + (base - 1) % 2, 2 + base % 2};
+  p.terms = 4;
+  double w[StagePredictor::kTerms];
+  stage_weights(y, states, p.terms, w);
+  for (int t = 0; t < p.terms; ++t) p.slot[t] = slots[t], p.weight[t] = w[t];
   return h;
 }
 
@@ -116,7 +131,7 @@ long Rkc::rkc2_stages(RightHandSide& f, double tau, int s) {
   yjm1_.noalias() = y0_ + (k.mu_t[1] * tau) * f0_;
   if (opt_.predict_stages && s >= 4) y1_ = yjm1_;
   for (int j = 2; j <= s; ++j) {
-    f.evaluate(yjm1_, fj_, stage_hint(j - 1, yjm1_));
+    f.evaluate(yjm1_, fj_, stage_hint(j - 1, yjm1_, s));
     ++evaluations;
     yj_.noalias() = (1 - k.mu[j] - k.nu[j]) * y0_ + k.mu[j] * yjm1_ + k.nu[j] * yjm2_ +
                     (k.mu_t[j] * tau) * fj_ + (k.gamma_t[j] * tau) * f0_;
@@ -125,7 +140,7 @@ long Rkc::rkc2_stages(RightHandSide& f, double tau, int s) {
   }
   // yjm1_ = Y_s = y_{n+1}; its velocity is the next step's F_n.
   if (opt_.project && yjm1_.allFinite()) opt_.project(yjm1_);
-  f.evaluate(yjm1_, f1_, stage_hint(s, yjm1_));
+  f.evaluate(yjm1_, f1_, stage_hint(s, yjm1_, s));
   ++evaluations;
   if (opt_.error_control) est_.noalias() = (12.0 / 15.0) * (y0_ - yjm1_) + (6.0 * tau / 15.0) * (f0_ + f1_);
   return evaluations;
@@ -136,10 +151,14 @@ long Rkc::rock4_stages(RightHandSide& f, double tau, int s) {
   const Rock4Coefficients& k = k4_;
   long evaluations = 0;
   // Recurrence part: g_0 = y_n, g_1 = g_0 + μ_1 τ F(g_0), g_j = μ_j τ F(g_{j−1}) − ν_j g_{j−1} − κ_j g_{j−2}.
+  // Its stages g_j are predicted as RKC2's are (the same three-term shape), and so is u_1 = g_{s−4};
+  // the finishing stages lie within a short step of u_1 and start from the last solution.
+  const int base = s - 4;
   yjm2_ = y0_;
   yjm1_.noalias() = y0_ + (k.mu[1] * tau) * f0_;
-  for (int j = 2; j <= s - 4; ++j) {
-    f.evaluate(yjm1_, fj_, {EvaluationHint::Role::Trajectory, j - 1});
+  if (opt_.predict_stages) y1_ = yjm1_;
+  for (int j = 2; j <= base; ++j) {
+    f.evaluate(yjm1_, fj_, stage_hint(j - 1, yjm1_, base));
     ++evaluations;
     yj_.noalias() = (k.mu[j] * tau) * fj_ - k.nu[j] * yjm1_ - k.kappa[j] * yjm2_;
     std::swap(yjm2_, yjm1_);
@@ -147,15 +166,14 @@ long Rkc::rock4_stages(RightHandSide& f, double tau, int s) {
   }
   // Finishing method from u_1 = g_{s−4} (in yjm1_; yjm2_ and yj_ are free).
   const Points& u1 = yjm1_;
-  Points& u = yj_;
-  const int base = s - 4;
-  f.evaluate(u1, kw_[0], {EvaluationHint::Role::Trajectory, base});
+  f.evaluate(u1, kw_[0], stage_hint(base, u1, base + 1));
+  Points& u = yj_;  // free once u_1's prediction has used it
   u.noalias() = u1 + (k.a[0] * tau) * kw_[0];
-  f.evaluate(u, kw_[1], {EvaluationHint::Role::Trajectory, base + 1});
+  f.evaluate(u, kw_[1], finishing_hint(base + 1, u, base));
   u.noalias() = u1 + (k.a[1] * tau) * kw_[0] + (k.a[2] * tau) * kw_[1];
-  f.evaluate(u, kw_[2], {EvaluationHint::Role::Trajectory, base + 2});
+  f.evaluate(u, kw_[2], finishing_hint(base + 2, u, base));
   u.noalias() = u1 + (k.a[3] * tau) * kw_[0] + (k.a[4] * tau) * kw_[1] + (k.a[5] * tau) * kw_[2];
-  f.evaluate(u, kw_[3], {EvaluationHint::Role::Trajectory, base + 3});
+  f.evaluate(u, kw_[3], finishing_hint(base + 3, u, base));
   evaluations += 4;
   yjm2_.noalias() = u1 + tau * (k.b[0] * kw_[0] + k.b[1] * kw_[1] + k.b[2] * kw_[2] + k.b[3] * kw_[3]);
   std::swap(yjm1_, yjm2_);  // yjm1_ = y_{n+1}

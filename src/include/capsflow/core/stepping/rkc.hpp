@@ -68,7 +68,8 @@ class Rkc final : public TimeStepper {
     std::function<void(Points&)> project;  // applied to y_{n+1} before F(y_{n+1}); may be empty
     // The stage predictor (EvaluationHint::predictor): each stage Y_m, m ≥ 2, is told the weights
     // of the combination of Y_0, Y_1, Y_{m−2}, Y_{m−1} closest to it (stage_weights), so that the
-    // right-hand side starts its inner solve from the same combination of their solutions.
+    // right-hand side starts its inner solve from the same combination of their solutions. ROCK4:
+    // its recurrence stages and u_1 the same way, its finishing stages from Y_0, Y_1, g_{s−5}, u_1.
     bool predict_stages = true;
     // Applied to the error estimate before its norm (may be empty). ROCK4 gets the grid-scale
     // low-pass (stepping/grid_scale_filter.hpp): its estimate grows like |z| on the stiff modes.
@@ -128,7 +129,8 @@ class Rkc final : public TimeStepper {
   // The error estimate's order + 1: the controller's exponent is its inverse.
   double estimate_order() const { return opt_.method == Method::Rock4 ? 4.0 : 3.0; }
   // The hint of the evaluation at stage point Y_m (m ≥ 1; yjm2_ = Y_{m−1}, yj_ = Y_{m−2}).
-  EvaluationHint stage_hint(int m, const Points& y) const;
+  EvaluationHint stage_hint(int m, const Points& y, int keep_below) const;  // stages m < keep_below keep their solution
+  EvaluationHint finishing_hint(int m, const Points& y, int base) const;    // ROCK4's stages after u_1 = g_base
   double rms(const Points& v) const;
 
   Options opt_;
