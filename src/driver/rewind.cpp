@@ -36,7 +36,7 @@ Scene Simulation::Impl::stepping_scene() const {
   Scene s = scene;
   if (s.time.tolerance_auto && folded_tolerance_in_force()) s.time.tolerance = kAutoToleranceFolded;
   if (s.time.tolerance_auto && s.time.scheme == TimeScheme::Rock4 && st.creases_seen_at)
-    s.time.tolerance = auto_tolerance_rock4_past_creases(static_cast<long>(ref.num_elements()), s.wall.model == WallModel::Membrane);
+    s.time.tolerance = auto_tolerance_rock4_past_creases(scene.time.tolerance);  // the set-up resolved the one before
   return s;
 }
 

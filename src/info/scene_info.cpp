@@ -157,14 +157,15 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     }
     // ROCK4's "auto" follows the mesh and loosens where the wall creases; RKC's rewinds there.
     const bool rock4_auto = scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rock4;
-    const long elements = static_cast<long>(mesh.num_elements());
-    const bool membrane = scene.wall.model == WallModel::Membrane;
+    const double tolerance = rock4_auto ? auto_tolerance_rock4(static_cast<long>(mesh.num_elements()),
+                                                               scene.wall.model == WallModel::Membrane)
+                                        : scene.time.tolerance;
     run["time_step"] = {{"kind", "error_controlled"},
-                        {"tolerance", rock4_auto ? auto_tolerance_rock4(elements, membrane) : scene.time.tolerance},
+                        {"tolerance", tolerance},
                         {"at", at},
                         {"tolerance_auto", scene.time.tolerance_auto}};
     if (scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rkc) run["time_step"]["tolerance_folded"] = kAutoToleranceFolded;
-    if (rock4_auto) run["time_step"]["tolerance_past_creases"] = auto_tolerance_rock4_past_creases(elements, membrane);
+    if (rock4_auto) run["time_step"]["tolerance_past_creases"] = auto_tolerance_rock4_past_creases(tolerance);
   }
   run["time_step"]["t_end"] = scene.time.t_end;
   // Measured peak RSS: ≈ 2.4 KB per element with the direct back end (48 MB at 20 480 elements);

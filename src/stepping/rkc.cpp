@@ -57,6 +57,14 @@ void stage_weights(const Points& y, const Points* const* states, int m, double* 
   }
 }
 
+// The predictor of a stage y: its weights on the given states, whose solutions are in those slots.
+static void predict_from(StagePredictor& p, const Points& y, const Points* const* states, const int* slots, int terms) {
+  double w[StagePredictor::kTerms];
+  stage_weights(y, states, terms, w);
+  p.terms = terms;
+  for (int t = 0; t < terms; ++t) p.slot[t] = slots[t], p.weight[t] = w[t];
+}
+
 EvaluationHint Rkc::stage_hint(int m, const Points& y, int keep_below) const {
   EvaluationHint h{EvaluationHint::Role::Trajectory, m};
   if (!opt_.predict_stages) return h;
@@ -69,11 +77,9 @@ EvaluationHint Rkc::stage_hint(int m, const Points& y, int keep_below) const {
     return h;
   }
   const Points* states[StagePredictor::kTerms] = {&y0_, m >= 4 ? &y1_ : (m == 2 ? &yjm2_ : &yj_), &yjm2_, &yj_};
-  int slots[StagePredictor::kTerms] = {0, 1, 2 + (m - 1) % 2, 2 + m % 2};
-  p.terms = m == 2 ? 2 : (m == 3 ? 3 : 4);  // distinct: {Y_0, Y_1}, {Y_0, Y_1, Y_2}, {Y_0, Y_1, Y_{m−1}, Y_{m−2}}
-  double w[StagePredictor::kTerms];
-  stage_weights(y, states, p.terms, w);
-  for (int t = 0; t < p.terms; ++t) p.slot[t] = slots[t], p.weight[t] = w[t];
+  const int slots[StagePredictor::kTerms] = {0, 1, 2 + (m - 1) % 2, 2 + m % 2};
+  // distinct: {Y_0, Y_1}, {Y_0, Y_1, Y_2}, {Y_0, Y_1, Y_{m−1}, Y_{m−2}}
+  predict_from(p, y, states, slots, m == 2 ? 2 : (m == 3 ? 3 : 4));
   if (m < keep_below) p.keep = 2 + m % 2;
   return h;
 }
@@ -83,13 +89,9 @@ EvaluationHint Rkc::stage_hint(int m, const Points& y, int keep_below) const {
 EvaluationHint Rkc::finishing_hint(int m, const Points& y, int base) const {
   EvaluationHint h{EvaluationHint::Role::Trajectory, m};
   if (!opt_.predict_stages || base < 3) return h;  // Y_1 and g_{s−5} distinct
-  StagePredictor& p = h.predictor;
   const Points* states[StagePredictor::kTerms] = {&y0_, &y1_, &yjm2_, &yjm1_};  // yjm2_ = g_{s−5}, yjm1_ = u_1
   const int slots[StagePredictor::kTerms] = {0, 1, 2 + (base - 1) % 2, 2 + base % 2};
-  p.terms = 4;
-  double w[StagePredictor::kTerms];
-  stage_weights(y, states, p.terms, w);
-  for (int t = 0; t < p.terms; ++t) p.slot[t] = slots[t], p.weight[t] = w[t];
+  predict_from(h.predictor, y, states, slots, 4);
   return h;
 }
 
@@ -152,7 +154,7 @@ long Rkc::rock4_stages(RightHandSide& f, double tau, int s) {
   long evaluations = 0;
   // Recurrence part: g_0 = y_n, g_1 = g_0 + μ_1 τ F(g_0), g_j = μ_j τ F(g_{j−1}) − ν_j g_{j−1} − κ_j g_{j−2}.
   // Its stages g_j are predicted as RKC2's are (the same three-term shape), and so is u_1 = g_{s−4};
-  // the finishing stages lie within a short step of u_1 and start from the last solution.
+  // the finishing stages, within a short step of u_1, from finishing_hint.
   const int base = s - 4;
   yjm2_ = y0_;
   yjm1_.noalias() = y0_ + (k.mu[1] * tau) * f0_;

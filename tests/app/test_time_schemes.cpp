@@ -50,6 +50,14 @@ double max_d13_difference(const fs::path& a, const fs::path& b, int* compared) {
   return worst;
 }
 
+// `capsflow run --restart DIR/checkpoint.h5 --set time.t_end=T_END` into DIR, 2 threads, the log
+// appended to DIR.log2; the exit code.
+int continue_run(const fs::path& dir, const std::string& t_end) {
+  const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + (dir / "checkpoint.h5").string() +
+                          " --set time.t_end=" + t_end + " >> " + dir.string() + ".log2 2>&1";
+  return std::system(cmd.c_str());
+}
+
 }  // namespace
 
 // The paper's case (GSMB GH, α = 3 %, Ca_v = 0.003, a/b = 1.4) at 1280 elements to γ̇t = 2 — the
@@ -204,9 +212,7 @@ TEST(TimeSchemes, RkcRestartMatchesUninterruptedRun) {
         "--set mesh.level=2 --set time.scheme=" + scheme + " --set output.every=0.0625 --set output.checkpoint_every=0.125";
     ASSERT_EQ(run(base + " --set time.t_end=0.3125", a), 0);
     ASSERT_EQ(run(base + " --set time.t_end=0.25", b), 0);
-    const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + (b / "checkpoint.h5").string() +
-                            " --set time.t_end=0.3125 > " + b.string() + ".log2 2>&1";
-    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    ASSERT_EQ(continue_run(b, "0.3125"), 0);
     const auto ca = capsflow::io::read_checkpoint(a / "checkpoint.h5");
     const auto cb = capsflow::io::read_checkpoint(b / "checkpoint.h5");
     EXPECT_EQ(ca.step, cb.step);
@@ -362,11 +368,7 @@ TEST(TimeSchemes, AutoToleranceRewindSurvivesRestarts) {
   ASSERT_EQ(run(base + " --set time.t_end=1.5", whole), 0);
   ASSERT_EQ(run(base + " --set time.t_end=1", parts), 0);  // before the creases (γ̇t ≈ 1.26)
   EXPECT_TRUE(summary(parts).at("time_tolerance").at("rewind").is_null());
-  const auto restart = [&](const std::string& t_end) {
-    const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + (parts / "checkpoint.h5").string() +
-                            " --set time.t_end=" + t_end + " >> " + parts.string() + ".log2 2>&1";
-    return std::system(cmd.c_str());
-  };
+  const auto restart = [&](const std::string& t_end) { return continue_run(parts, t_end); };
   ASSERT_EQ(restart("1.125"), 0);  // still before: loose
   EXPECT_TRUE(summary(parts).at("time_tolerance").at("rewind").is_null());
   ASSERT_EQ(restart("1.5"), 0);  // rewinds to t = 0 in this folder
@@ -419,11 +421,7 @@ TEST(TimeSchemes, Rock4AutoToleranceLoosensWhereTheWallCreasesAndSurvivesRestart
   const nlohmann::json p = summary(parts).at("time_tolerance");
   EXPECT_TRUE(p.at("creases_seen_at").is_null());
   EXPECT_NEAR(p.at("in_force").get<double>(), 4.96063e-5, 1e-10);  // 6 digits of 2e-3 / 4^(8/3)
-  const auto restart = [&](const std::string& t_end) {
-    const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + (parts / "checkpoint.h5").string() +
-                            " --set time.t_end=" + t_end + " >> " + parts.string() + ".log2 2>&1";
-    return std::system(cmd.c_str());
-  };
+  const auto restart = [&](const std::string& t_end) { return continue_run(parts, t_end); };
   ASSERT_EQ(restart("0.5"), 0);
   ASSERT_EQ(restart("0.625"), 0);  // sees the creases in this segment
   const auto a = capsflow::io::read_checkpoint(whole / "checkpoint.h5");

@@ -60,8 +60,8 @@ inline double auto_tolerance_rock4(long elements, bool plain_membrane) {
 // creases have formed the error made is no longer amplified: NH membrane at 5 120 elements, 5e-5
 // up to the creases and 2e-3 after, 823 evaluations and 6.2e-5, against 941 and 6.0e-5 with 5e-4
 // after; Table 1 α = 3 %, 5e-4 then 2e-3: 777 evaluations and 5.6e-5, against 896 and 5.5e-5 (§5.11).
-inline double auto_tolerance_rock4_past_creases(long elements, bool plain_membrane) {
-  return std::max(kAutoToleranceRock4At1280, auto_tolerance_rock4(elements, plain_membrane));
+inline double auto_tolerance_rock4_past_creases(double before_creases) {
+  return std::max(kAutoToleranceRock4At1280, before_creases);
 }
 
 }  // namespace capsflow
