@@ -8,6 +8,7 @@
 
 #include "capsflow/core/info/scene_info.hpp"
 #include "capsflow/core/scene/scene_keys.hpp"
+#include "capsflow/core/stepping/auto_scheme.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {
@@ -24,9 +25,9 @@ int info_command(const InfoOptions& opt) {
   }
   const Scene scene = opt.scene_path.empty() ? parse_scene(default_scene_toml(), "<built-in default>", opt.overrides)
                                              : load_scene(opt.scene_path, opt.overrides);
-  fmt::print("# resolved scene ({})\n{}\n\n", scene.source, to_toml(scene));
+  const nlohmann::json info = scene_info(scene, opt.probe);  // resolves "auto" against the mesh, as a run does
+  fmt::print("# resolved scene ({})\n{}\n\n", scene.source, info["scene_toml"].get<std::string>());
   if (const std::string note = capillary_note(scene); !note.empty()) fmt::print("# note: {}\n\n", note);
-  const nlohmann::json info = scene_info(scene, opt.probe);
   const nlohmann::json& m = info["mesh"];
   auto num = [](const nlohmann::json& j) { return j.get<double>(); };
   fmt::print("# reference mesh\n");
@@ -85,8 +86,15 @@ int info_command(const InfoOptions& opt) {
   auto wall = [&](double evals) {
     return std::isfinite(seconds_per_eval) ? fmt::format(", ~{:.0f} s", evals * seconds_per_eval) : std::string();
   };
-  fmt::print("time scheme     {}{}\n", to_string(scene.time.scheme),
-             scene.time.scheme_auto ? " (auto: RKC for every wall)" : "");
+  std::string why_scheme;
+  if (r["scheme_auto"].get<bool>()) {
+    const double stiffness = num(rho["analytic"]);
+    why_scheme = r["time_step"]["kind"] == "fixed"
+                     ? " (auto with a fixed time.dt: RKC2)"
+                     : fmt::format(" (auto: the analytic spectral radius {:.0f} is {} {:g}; docs/time-integration.md §5.12)", stiffness,
+                                   stiffness < kAutoSchemeRock4BelowStiffness ? "below" : "not below", kAutoSchemeRock4BelowStiffness);
+  }
+  fmt::print("time scheme     {}{}\n", r["scheme"].get<std::string>(), why_scheme);
   auto count = [](double steps) {
     return steps < 1e15 ? fmt::format("{:.0f}", steps)
                         : std::isfinite(steps) ? fmt::format("{:.3g}", steps) : std::string("more than 1e308");
@@ -110,7 +118,7 @@ int info_command(const InfoOptions& opt) {
       fmt::print("time step       error-controlled (tolerance auto: {:g} ℓ; if the wall creases at the mesh scale, the run starts "
                  "again from t = 0 at {:g} ℓ up to the creases); at a step of\n",
                  num(ts["tolerance"]), num(ts["tolerance_folded"]));
-    else if (ts.contains("tolerance_past_creases"))
+    else if (ts.contains("tolerance_past_creases") && num(ts["tolerance_past_creases"]) != num(ts["tolerance"]))
       fmt::print("time step       error-controlled (tolerance auto: {:g} ℓ; {:g} ℓ from where the wall creases at the mesh "
                  "scale); at a step of\n",
                  num(ts["tolerance"]), num(ts["tolerance_past_creases"]));

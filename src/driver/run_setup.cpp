@@ -14,7 +14,10 @@
 #include "capsflow/core/io/run_identity.hpp"
 #include "capsflow/core/io/version.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
+#include "capsflow/core/mesh/stats.hpp"
+#include "capsflow/core/stepping/auto_scheme.hpp"
 #include "capsflow/core/stepping/auto_tolerance.hpp"
+#include "capsflow/core/stepping/stability.hpp"
 #include "simulation_impl.hpp"
 
 namespace capsflow {
@@ -24,6 +27,9 @@ void Simulation::Impl::set_up() {
   threads = omp_get_max_threads();
   io::CheckpointState ck;
   set_up_folder(ck);
+  // "auto" picks the scheme from the wall's stiffness on this mesh (stepping/auto_scheme.hpp). A
+  // restart reads the checkpoint's scene, which names the scheme the run chose.
+  resolve_auto_scheme(scene, min_edge_length(ref));
   // ROCK4's "auto" tolerance follows the mesh (stepping/auto_tolerance.hpp), known only now: the
   // scene keeps the one up to the creases; stepping_scene() the one in force.
   if (scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rock4)
@@ -201,10 +207,17 @@ void Simulation::Impl::log_set_up() const {
   if (restart.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path.string());
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
   if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
-  if (scene.time.scheme_auto)
-    spdlog::info("time scheme: {} (auto: error-controlled RKC, for every wall; "
-                 "time.scheme = \"heun\" for Heun at its stability limit)",
-                 to_string(scene.time.scheme));
+  if (scene.time.scheme_auto && scene.time.dt_auto) {
+    const double stiffness = analytic_spectral_radius(scene, min_edge_length(ref));
+    spdlog::info("time scheme: {} (auto: the wall's stiffness on this mesh, ρ = {:.0f} flow rates, is {} {:g}: {}; "
+                 "docs/time-integration.md §5.12)",
+                 to_string(scene.time.scheme), stiffness, stiffness < kAutoSchemeRock4BelowStiffness ? "below" : "not below",
+                 kAutoSchemeRock4BelowStiffness,
+                 scene.time.scheme == TimeScheme::Rock4 ? "fourth order pays where accuracy sets the step"
+                                                        : "RKC2's longer stability interval pays where stability does");
+  } else if (scene.time.scheme_auto) {
+    spdlog::info("time scheme: {} (auto with a fixed time.dt: RKC2)", to_string(scene.time.scheme));
+  }
 }
 
 }  // namespace capsflow

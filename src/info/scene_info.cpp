@@ -17,6 +17,7 @@
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
+#include "capsflow/core/stepping/auto_scheme.hpp"
 #include "capsflow/core/stepping/auto_tolerance.hpp"
 #include "capsflow/core/stepping/heun.hpp"
 #include "capsflow/core/stepping/rkc.hpp"
@@ -31,14 +32,16 @@ int stabilized_stages(TimeScheme scheme, double tau_rho) {
 }
 }  // namespace
 
-nlohmann::json scene_info(const Scene& scene, bool probe) {
+nlohmann::json scene_info(const Scene& read, bool probe) {
+  const SurfaceMesh mesh = make_reference_mesh(read.mesh);
+  const MeshStats st = mesh_stats(mesh);
+  Scene scene = read;
+  resolve_auto_scheme(scene, st.edge_min);  // as the run will (stepping/auto_scheme.hpp)
   nlohmann::json info;
   info["source"] = scene.source;
-  info["scene_toml"] = to_toml(scene);
+  info["scene_toml"] = to_toml(read);  // as given: "auto" stays "auto" (run.scheme says what it chose)
   info["note"] = capillary_note(scene);
 
-  const SurfaceMesh mesh = make_reference_mesh(scene.mesh);
-  const MeshStats st = mesh_stats(mesh);
   const VolumeMoments vm = volume_moments(mesh);
   const InertiaEllipsoid ell = inertia_ellipsoid(mesh);
   const TaylorDeformation D = taylor_deformation(ell);
@@ -85,8 +88,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   const StabilityEstimate se = stability_estimate(scene, st.edge_min);
   run["stable_dt"] = {{"limit", se.limit()}, {"membrane", se.membrane}, {"bending", se.bending}, {"flow", se.flow},
                       {"limited_by", se.limiting()}};
-  // Heun's real stability interval is 2, so the calibrated limit implies a spectral radius.
-  const double rho_analytic = 2.0 / se.limit();
+  const double rho_analytic = analytic_spectral_radius(scene, st.edge_min);
   double rho = rho_analytic, seconds_per_eval = NAN;
   double power_evaluations = 10;  // per ρ refresh, when not measured (--probe)
   const bool probed = probe || mesh.num_elements() <= kInfoProbeElements;

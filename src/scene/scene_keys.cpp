@@ -52,14 +52,17 @@ Spellings<shell::LawKind> law_spellings() {
   return out;
 }
 
-// time.scheme: "auto" is kept as Auto until the rules resolve it from the wall model; what is
-// written is the resolved scheme.
+// time.scheme: "auto" is written as "auto" until it has chosen for the mesh (stepping/auto_scheme.hpp),
+// then as the scheme it chose, so that a checkpoint's scene continues with that scheme.
 Key<TimeSpec> time_scheme(std::string meaning) {
   Key<TimeSpec> k = choice("scheme", &TimeSpec::scheme, TimeScheme::Auto, std::move(meaning));
   k.read = [read = k.read](const TomlReader& r, const std::string& sec, TimeSpec& t) {
     read(r, sec, t);
     if (r.has(sec, "scheme")) t.scheme_auto = t.scheme == TimeScheme::Auto;
   };
+  const auto written = [](const TimeSpec& t) { return to_string(t.scheme_auto && !t.scheme_for_mesh ? TimeScheme::Auto : t.scheme); };
+  k.to_json = [written](const TimeSpec& t) { return nlohmann::json(written(t)); };
+  k.to_toml = [written](const TimeSpec& t) { return std::optional<std::string>(quoted(written(t))); };
   return k;
 }
 
@@ -225,8 +228,9 @@ const Section<TimeSpec>& time_keys() {
       "time", &Scene::time,
       {time_scheme("Heun at the stability-limited step (§5.1–5.2), damped RKC2 with error control "
                    "(`docs/time-integration.md` §5.7), or `\"rock4\"`: a fourth-order stabilised scheme with error "
-                   "control (§5.9); `\"auto\"`: RKC, for every wall (§5.8; resolved when the scene is read; the log "
-                   "says which)"),
+                   "control (§5.9); `\"auto\"`: with `dt = \"auto\"`, ROCK4 where the wall's analytic spectral radius on the "
+                   "reference mesh is below 800 flow rates (soft for its mesh: accuracy sets the step) and RKC2 "
+                   "above (stability does), with a fixed `dt` RKC2 (§5.12; the log and `capsflow info` say which)"),
        time_tolerance("RKC: local error per step, RMS over nodes, in units of ℓ (§5.7); `\"auto\"`: 1e-5, and if the "
                       "wall creases at the mesh scale the run starts again from t = 0 at 5e-7 up to the creases, 1e-5 "
                       "after (§5.8; keeps D_ij within 1e-4 of the time-converged result on the paper's cases); with ROCK4 the "

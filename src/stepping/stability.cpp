@@ -41,4 +41,6 @@ StabilityEstimate stability_estimate(const Scene& s, double dx) {
   return e;
 }
 
+double analytic_spectral_radius(const Scene& s, double min_edge) { return 2.0 / stability_estimate(s, min_edge).limit(); }
+
 }  // namespace capsflow

@@ -45,9 +45,10 @@ std::unique_ptr<TimeStepper> make_rkc(const Scene& scene, const Triangles& trian
   o.tolerance = scene.time.tolerance;
   o.error_control = scene.time.dt_auto;
   o.fixed_dt = scene.time.dt_auto ? 0.0 : scene.time.dt;
-  // The calibrated Heun limit (real stability interval 2) gives the analytic bound used when the
-  // power iteration does not converge.
-  o.analytic_rho = [limit = stable_step(scene, triangles)](const Points& y) { return 2.0 / limit(y); };
+  // The calibrated Heun limit gives the analytic bound used when the power iteration does not converge.
+  o.analytic_rho = [scene, triangles](const Points& y) {
+    return analytic_spectral_radius(scene, min_edge_length(SurfaceMesh{y, triangles}));
+  };
   // RKC's large steps add O(τ³) volume error per step that the velocity-level correction cannot
   // see: project each new state back onto the initial volume.
   if (scene.fluid.volume_correction)

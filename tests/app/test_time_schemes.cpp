@@ -66,7 +66,7 @@ TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
   const fs::path ref = scratch("heun-quarter"), heun = scratch("heun-auto"), rkc = scratch("rkc"), fast = scratch("rkc-5e-5");
   ASSERT_EQ(run("--set time.scheme=heun --set time.dt_safety=0.175", ref), 0);  // 1/4 of the auto step
   ASSERT_EQ(run("--set time.scheme=heun", heun), 0);
-  ASSERT_EQ(run("", rkc), 0);  // the default: scheme auto → RKC for this GSMB wall, tolerance auto
+  ASSERT_EQ(run("--set time.scheme=rkc", rkc), 0);  // RKC2 at its "auto" tolerance
   ASSERT_EQ(run("--set time.scheme=rkc --set time.tolerance=5e-5", fast), 0);
   EXPECT_EQ(summary(rkc).at("scheme"), "rkc");
   int n = 0;
@@ -89,17 +89,56 @@ TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
   EXPECT_GE(static_cast<double>(e_heun) / e_rkc, 5.0) << e_heun << " vs " << e_rkc;
   EXPECT_GE(static_cast<double>(e_heun) / e_fast, 5.0) << e_heun << " vs " << e_fast;
   EXPECT_LT(std::abs(summary(rkc).at("volume_drift").get<double>()), 1e-12);  // projected every step
-  // ROCK4 at its "auto" tolerance, 2e-3 at 1 280 elements (stepping/auto_tolerance.hpp), with the
-  // grid-scale-filtered estimate (§5.10): measured 296 evaluations (1997 / 296 = 6.7) and D_ij
-  // within 6e-6 (session 27). The same bounds as the default's: 1e-4 and 5×.
-  const fs::path rock4 = scratch("rock4-auto");
-  ASSERT_EQ(run("--set time.scheme=rock4", rock4), 0);
+  // The default, scheme "auto": ROCK4 on this wall and mesh (analytic spectral radius 461, below
+  // 800: stepping/auto_scheme.hpp), at its "auto" tolerance, 2e-3 at 1 280 elements
+  // (stepping/auto_tolerance.hpp), with the grid-scale-filtered estimate (§5.10): measured 296
+  // evaluations (1997 / 296 = 6.7) and D_ij within 6e-6 (session 27). The same bounds: 1e-4 and 5×.
+  const fs::path rock4 = scratch("default-rock4");
+  ASSERT_EQ(run("", rock4), 0);
+  EXPECT_EQ(summary(rock4).at("scheme"), "rock4");
   EXPECT_DOUBLE_EQ(summary(rock4).at("time_tolerance").at("in_force").get<double>(), 2e-3);
   EXPECT_LT(max_d13_difference(ref, rock4, &n), 1e-4);
   EXPECT_EQ(n, 21);
   const long e_rock4 = summary(rock4).at("rhs_evaluations");
   EXPECT_GE(static_cast<double>(e_heun) / e_rock4, 5.0) << e_heun << " vs " << e_rock4;
   for (const auto& p : {ref, heun, rkc, fast, rock4}) fs::remove_all(p), fs::remove(p.string() + ".log");
+}
+
+// time.scheme = "auto" (stepping/auto_scheme.hpp, docs/time-integration.md §5.12) must give ROCK4
+// where issue 23's accuracy-and-cost item needs it (the creasing Table 1 walls at 1 280 and 5 120
+// elements: RKC2 costs 2.9–4.9× fewer evaluations than Heun there, under the 5× asked) and RKC2
+// where ROCK4 costs more (Fig. 4 at 5 120 elements, 1.27×), above all at the floors' 81 920
+// elements (ROCK4: 4 003 evaluations against 2 034) and on stiff walls (Ca_s = 0.01: 2.6×). A
+// continued run keeps the scheme its checkpoint names, even where its new keys would choose another.
+TEST(TimeSchemes, AutoSchemeIsRock4WhereAccuracySetsTheStepAndRkc2WhereStabilityDoes) {
+  const std::string scenes = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"paper_table1_nh_gsmb_alpha3.toml --set mesh.level=3", "rock4"},
+      {"paper_table1_nh_gsmb_alpha3.toml --set mesh.level=4", "rock4"},
+      {"paper_table1_nh_membrane.toml --set mesh.level=4", "rock4"},
+      {"paper_fig4_gh_alpha3.toml --set mesh.level=4", "rkc"},
+      {"paper_fig4_gh_alpha3.toml --set mesh.level=6", "rkc"},
+      {"paper_table1_nh_membrane.toml --set mesh.level=3 --set flow.ca_s=0.01", "rkc"},
+      {"paper_table1_nh_gsmb_alpha3.toml --set mesh.level=3 --set time.dt=0.001", "rkc"}};  // a fixed step
+  const fs::path dir = scratch("auto-scheme"), logs = scratch("auto-scheme-info");
+  fs::create_directories(logs);
+  for (const auto& [args, expected] : cases) {
+    const capsflow_test::Result info = capsflow_test::capsflow("info " + scenes + args, logs);
+    ASSERT_EQ(info.code, 0) << args;
+    EXPECT_NE(info.out.find("time scheme     " + expected + " (auto"), std::string::npos) << args << "\n" << info.out;
+  }
+  // The run makes the same choice, and its checkpoint names it: continued at Ca_s = 0.01, which a
+  // new run would take with RKC2 (above), it stays ROCK4.
+  ASSERT_EQ(run(scenes + "paper_table1_nh_gsmb_alpha3.toml --set mesh.level=2 --set time.t_end=0.125", dir), 0);
+  EXPECT_EQ(summary(dir).at("scheme"), "rock4");
+  const std::string cmd = std::string(CAPSFLOW_EXE) + " run --threads 2 --restart " + dir.string() +
+                          " --set time.t_end=0.25 --set flow.ca_s=0.01 >> " + dir.string() + ".log2 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_EQ(summary(dir).at("scheme"), "rock4");
+  EXPECT_EQ(summary(dir).at("scene").at("flow").at("ca_s").get<double>(), 0.01);
+  capsflow_test::remove_run(dir);
+  fs::remove(dir.string() + ".log2");
+  fs::remove_all(logs);
 }
 
 // ROCK4's "auto" tolerance is 2e-3 × 1280/N, for a plain membrane 2e-3 × (1280/N)^(8/3)
@@ -120,14 +159,13 @@ TEST(TimeSchemes, Rock4AutoToleranceFollowsTheElementCount) {
     const nlohmann::json tolerance = summary(dir).at("time_tolerance");
     EXPECT_NEAR(tolerance.at("in_force").get<double>(), expected, 1e-6 * expected) << what;
     EXPECT_TRUE(tolerance.at("creases_seen_at").is_null()) << what;  // the built-in spheroid at γ̇t = 0.01
-    // `capsflow info` says the same (printed with 6 digits) and 2e-3 past the creases, or the value
-    // before them where that is looser (the coarse gsmb and membrane cases).
+    // `capsflow info` says the same (printed with 6 digits) and 2e-3 past the creases, where that
+    // is looser than the value before them (only the membrane at level 4 here).
     const capsflow_test::Result info = capsflow_test::capsflow("info " + args, dir);
     ASSERT_EQ(info.code, 0) << what;
-    EXPECT_NE(info.out.find(fmt::format("tolerance auto: {:g} ℓ; {:g} ℓ from where the wall creases", expected,
-                                        std::max(expected, 2e-3))),
-              std::string::npos)
-        << what << "\n" << info.out;
+    const std::string said = expected < 2e-3 ? fmt::format("tolerance auto: {:g} ℓ; 0.002 ℓ from where the wall creases", expected)
+                                             : fmt::format("tolerance auto: {:g} ℓ)", expected);
+    EXPECT_NE(info.out.find(said), std::string::npos) << what << "\n" << info.out;
     fs::remove_all(dir), fs::remove(dir.string() + ".log");
   }
 }
@@ -312,7 +350,7 @@ TEST(TimeSchemes, AutoToleranceIsTheTightRunWhereTheWallCreasesAndTheLooseOneEls
   const fs::path aut = scratch("auto-creases"), tight = scratch("auto-tight"), smooth = scratch("auto-smooth"),
                  loose = scratch("auto-loose");
   const std::string creasing = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/paper_table1_nh_gsmb_alpha3.toml" +
-                               " --set mesh.level=3 --set time.t_end=1.5";
+                               " --set mesh.level=3 --set time.t_end=1.5 --set time.scheme=rkc";  // "auto" takes ROCK4 here
   ASSERT_EQ(run(creasing, aut), 0);
   ASSERT_EQ(run(creasing + " --set time.tolerance=5e-7", tight), 0);
   const nlohmann::json sa = summary(aut), sb = summary(tight);
@@ -346,8 +384,8 @@ TEST(TimeSchemes, AutoToleranceIsTheTightRunWhereTheWallCreasesAndTheLooseOneEls
   EXPECT_LT(kept, sb.at("rhs_evaluations").get<long>());
   EXPECT_EQ(sa.at("timing").at("rhs_evaluations").get<long>(), kept);  // the table: the kept run
 
-  ASSERT_EQ(run("--set time.t_end=1.6", smooth), 0);
-  ASSERT_EQ(run("--set time.t_end=1.6 --set time.tolerance=1e-5", loose), 0);
+  ASSERT_EQ(run("--set time.t_end=1.6 --set time.scheme=rkc", smooth), 0);
+  ASSERT_EQ(run("--set time.t_end=1.6 --set time.scheme=rkc --set time.tolerance=1e-5", loose), 0);
   const auto c = capsflow_test::series_rows(smooth), d = capsflow_test::series_rows(loose);
   ASSERT_EQ(c.size(), d.size());
   for (size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c[i].at("D13"), d[i].at("D13")) << "row " << i;
@@ -364,7 +402,7 @@ TEST(TimeSchemes, AutoToleranceRewindSurvivesRestarts) {
   // Every t_end below is a checkpoint time, where the uninterrupted run's steps land too (with
   // RKC's dense output, output times lie between steps), and exact in binary.
   const std::string base = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/paper_table1_nh_gsmb_alpha3.toml" +
-                           " --set mesh.level=3 --set output.checkpoint_every=0.125";
+                           " --set mesh.level=3 --set output.checkpoint_every=0.125 --set time.scheme=rkc";
   ASSERT_EQ(run(base + " --set time.t_end=1.5", whole), 0);
   ASSERT_EQ(run(base + " --set time.t_end=1", parts), 0);  // before the creases (γ̇t ≈ 1.26)
   EXPECT_TRUE(summary(parts).at("time_tolerance").at("rewind").is_null());

@@ -124,7 +124,7 @@ TEST(ViscosityRatio, RunsReportTheFlowPlaneObservablesAndTheSolveEffort) {
 // outputs between steps (a probe-like set-up off the trajectory) do not move the run.
 TEST(ViscosityRatio, ReusedIdentityTermKeepsTheObservablesAndOutputsDoNotMoveTheRun) {
   const std::string base = "--set mesh.level=3 --set mesh.shape=sphere --set flow.type=simple_shear --set fluid.backend=fmm "
-                           "--set fluid.tolerance=1e-4 --set fluid.viscosity_ratio=5 --set time.t_end=0.5 "
+                           "--set fluid.tolerance=1e-4 --set fluid.viscosity_ratio=5 --set time.t_end=0.5 --set time.scheme=rkc "
                            "--set 'output.fields=[\"velocity\"]' ";  // an output between steps is then an evaluation
   const fs::path reuse = scratch("reuse"), full = scratch("full"), sparse = scratch("reuse-sparse-outputs");
   ASSERT_EQ(run(base + "--set output.every=0.1", reuse), 0) << slurp(reuse.string() + ".log");

@@ -58,8 +58,10 @@ struct FlowSpec {
 
 struct TimeSpec {
   TimeSpec();
-  TimeScheme scheme;             // never Auto after parsing (resolved from the wall model)
-  bool scheme_auto = true;       // the scheme was chosen by "auto" (for the log)
+  TimeScheme scheme;             // never Auto after parsing: RKC2 until "auto" chooses for the mesh
+  bool scheme_auto = true;       // the scheme is chosen by "auto"
+  bool scheme_for_mesh = false;  // "auto" has chosen for the mesh (stepping/auto_scheme.hpp): written as the
+                                 // scheme from then on (a run's checkpoints), as "auto" before
   double tolerance;              // RKC local error per step (RMS over nodes, units of ℓ; docs/time-integration.md §5.7);
                                  // under "auto" the one the run starts with
   bool tolerance_auto = true;    // "auto": loose, rewound to t = 0 at a tight one once the wall creases (§5.8)

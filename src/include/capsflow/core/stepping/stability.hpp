@@ -34,5 +34,7 @@ inline constexpr double kBendingConstant = 0.7;   // measured lower bound 0.74, 
 // K_s/G_s at small strain for the scene's law.
 double area_to_shear_modulus_ratio(const Scene& scene);
 StabilityEstimate stability_estimate(const Scene& scene, double min_edge);
+// The spectral radius that limit implies: Heun's real stability interval is 2.
+double analytic_spectral_radius(const Scene& scene, double min_edge);
 
 }  // namespace capsflow

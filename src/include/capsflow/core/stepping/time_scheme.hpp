@@ -1,8 +1,9 @@
 #pragma once
 // The time integrators a scene can choose (time.scheme): damped RKC2 or the fourth-order ROCK4,
 // both stabilised explicit steps with error control (stepping/rkc.hpp), or Heun at the
-// stability-limited step (stepping/heun.hpp). "auto" (the default) is resolved when the scene is
-// read: RKC for every wall (docs/time-integration.md §5.7–5.9 give the measurements behind it).
+// stability-limited step (stepping/heun.hpp). "auto" (the default) is resolved once the mesh is
+// known: ROCK4 where the wall is soft for its mesh, RKC2 where it is stiff (stepping/auto_scheme.hpp,
+// docs/time-integration.md §5.12).
 #include "capsflow/core/named_enum.hpp"
 
 namespace capsflow {
