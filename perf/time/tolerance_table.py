@@ -58,6 +58,9 @@ CASES = {
     "ab4": (None, ["--set", "mesh.aspect=4"], "built-in scene at a/b = 4"),
     # The large-deformation membrane benchmark (issue 15), to γ̇t = 8: Ca_s = 0.6, a soft membrane.
     "nh_ca06": ("scenes/sphere_nh_shear_ca06.toml", [], "NH membrane sphere, Ca_s = 0.6 (large deformation)"),
+    # λ ≠ 1 (the double layer's second-kind solve), run to γ̇t = 5 rather than to their steady state
+    "lambda02": ("scenes/sphere_shear_lambda02.toml", ["--set", "time.stop_at_steady=false"], "NH sphere in shear, λ = 0.2"),
+    "lambda5": ("scenes/sphere_shear_lambda5.toml", ["--set", "time.stop_at_steady=false"], "NH sphere in shear, λ = 5"),
 }
 # Cases' own t_end (scenes/quick.toml: 2; the issue-15 benchmark: 8); the paper scenes end at 5.
 CASE_T_END = {"builtin": 2.0, "ab4": 2.0, "nh_ca06": 8.0}
