@@ -105,6 +105,18 @@ def runs(matrix, scheme="auto"):
                              shape=f"{shape} {aspect:g}", flow=flow, stops_on="all" if "tag" not in m else m["tag"]), sets
 
 
+def picked_scheme(exe, sets):
+    """The scheme `capsflow info` says the run would take (time.scheme = "auto" picks per mesh)."""
+    cmd = [exe, "info"]
+    for k, v in sets.items():
+        cmd += ["--set", f"{k}={v}"]
+    out = subprocess.run(cmd, capture_output=True, text=True).stdout
+    for line in out.splitlines():
+        if line.startswith("time scheme"):
+            return line.split()[2]
+    return None
+
+
 def run_one(exe, out, name, sets, threads, report_only=False):
     folder = os.path.join(out, name)
     summary = os.path.join(folder, "summary.json")
@@ -193,10 +205,19 @@ def main():
     ap.add_argument("--report-only", action="store_true", help="run nothing: tables and map from the finished runs")
     ap.add_argument("--scheme", default="auto", choices=["auto", "rkc", "rock4", "heun"],
                     help="time.scheme of every run (default: the default, auto)")
+    ap.add_argument("--levels", default="", help="only these mesh levels, e.g. 3 or 3,4 (default: the matrix's)")
+    ap.add_argument("--only-picked", default="", choices=["", "rkc", "rock4"],
+                    help="only the runs for which the scheme (auto) picks this one, as `capsflow info` says")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rows = []
     todo = list(runs(MATRICES[a.matrix], a.scheme))
+    if a.levels:
+        keep = {int(x) for x in a.levels.split(",")}
+        todo = [r for r in todo if r[1]["level"] in keep]
+    if a.only_picked:
+        todo = [r for r in todo if picked_scheme(a.exe, r[2]) == a.only_picked]
+        print(f"{len(todo)} runs for which the scheme picks {a.only_picked}", flush=True)
     start = time.time()
     for i, (name, cfg, sets) in enumerate(todo):
         s, cached = run_one(a.exe, a.out, name, sets, a.threads, a.report_only)
