@@ -70,7 +70,7 @@ TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
   ASSERT_EQ(run("--set time.scheme=rkc --set time.tolerance=5e-5", fast), 0);
   EXPECT_EQ(summary(rkc).at("scheme"), "rkc");
   int n = 0;
-  // The default tolerance is chosen for 1e-4 on D_ij on every paper case, including walls that fold
+  // RKC2's "auto" tolerance is chosen for 1e-4 on D_ij on every paper case, including walls that fold
   // at the mesh scale (docs/time-integration.md §5.7–5.8); this wall folds but does not crease, so
   // "auto" keeps 1e-5 and gives 4.1e-5 with dense output (measured 2026-12-02 session 15; 3.5e-5
   // when steps landed on every output time; time.tolerance = 1e-6 gives 1.0e-5).
@@ -78,14 +78,14 @@ TEST(TimeSchemes, RkcMatchesQuarterStepHeunWithFarFewerEvaluations) {
   EXPECT_TRUE(summary(rkc).at("time_tolerance").at("rewind").is_null());
   EXPECT_EQ(n, 21);  // every output time, t = 0, 0.1, ..., 2 (between steps: dense output)
   // 5e-5 kept 8.8e-5 while steps landed on every output time; with dense output its steps are
-  // longer and it gives 1.04e-4 (2026-12-02): one reason the default is 1e-5. 2e-4 bounds it.
+  // longer and it gives 1.04e-4 (2026-12-02): one reason RKC2's "auto" is 1e-5. 2e-4 bounds it.
   EXPECT_LT(max_d13_difference(ref, fast, &n), 2e-4);
   const long e_heun = summary(heun).at("rhs_evaluations");
   const long e_rkc = summary(rkc).at("rhs_evaluations"), e_fast = summary(fast).at("rhs_evaluations");
-  // Measured 1997 / 366 = 5.46 at the default tolerance with dense output (2026-12-02, session 15;
+  // Measured 1997 / 366 = 5.46 at RKC2's "auto" tolerance with dense output (2026-12-02, session 15;
   // 1997 / 410 = 4.9 when steps landed on every output time, 1997 / 602 = 3.3 at 1e-6; Heun's
   // automatic step includes 2/ρ since 8710966: docs/time-integration.md §5.7). The floor
-  // is 5× with D13 within 1e-4 (asserted above): the default meets it with 8 % to spare.
+  // is 5× with D13 within 1e-4 (asserted above): RKC2's "auto" meets it with 8 % to spare.
   EXPECT_GE(static_cast<double>(e_heun) / e_rkc, 5.0) << e_heun << " vs " << e_rkc;
   EXPECT_GE(static_cast<double>(e_heun) / e_fast, 5.0) << e_heun << " vs " << e_fast;
   EXPECT_LT(std::abs(summary(rkc).at("volume_drift").get<double>()), 1e-12);  // projected every step
