@@ -87,13 +87,10 @@ int info_command(const InfoOptions& opt) {
     return std::isfinite(seconds_per_eval) ? fmt::format(", ~{:.0f} s", evals * seconds_per_eval) : std::string();
   };
   std::string why_scheme;
-  if (r["scheme_auto"].get<bool>()) {
-    const double stiffness = num(rho["analytic"]);
+  if (r["scheme_auto"].get<bool>())
     why_scheme = r["time_step"]["kind"] == "fixed"
                      ? " (auto with a fixed time.dt: RKC2)"
-                     : fmt::format(" (auto: the analytic spectral radius {:.0f} is {} {:g}; docs/time-integration.md §5.12)", stiffness,
-                                   stiffness < kAutoSchemeRock4BelowStiffness ? "below" : "not below", kAutoSchemeRock4BelowStiffness);
-  }
+                     : " (auto: " + auto_scheme_reason(num(rho["analytic"])) + "; docs/time-integration.md §5.12)";
   fmt::print("time scheme     {}{}\n", r["scheme"].get<std::string>(), why_scheme);
   auto count = [](double steps) {
     return steps < 1e15 ? fmt::format("{:.0f}", steps)

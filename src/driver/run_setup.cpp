@@ -208,11 +208,8 @@ void Simulation::Impl::log_set_up() const {
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
   if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
   if (scene.time.scheme_auto && scene.time.dt_auto) {
-    const double stiffness = analytic_spectral_radius(scene, min_edge_length(ref));
-    spdlog::info("time scheme: {} (auto: the wall's stiffness on this mesh, ρ = {:.0f} flow rates, is {} {:g}: {}; "
-                 "docs/time-integration.md §5.12)",
-                 to_string(scene.time.scheme), stiffness, stiffness < kAutoSchemeRock4BelowStiffness ? "below" : "not below",
-                 kAutoSchemeRock4BelowStiffness,
+    spdlog::info("time scheme: {} (auto: {}: {}; docs/time-integration.md §5.12)", to_string(scene.time.scheme),
+                 auto_scheme_reason(analytic_spectral_radius(scene, min_edge_length(ref))),
                  scene.time.scheme == TimeScheme::Rock4 ? "fourth order pays where accuracy sets the step"
                                                         : "RKC2's longer stability interval pays where stability does");
   } else if (scene.time.scheme_auto) {

@@ -16,6 +16,8 @@
 // membrane, 20 480), 1.23 at 1 310 (a/b = 4, 5 120), 1.64 at 1 847 (Fig. 4, 20 480), 1.97 at
 // 3 695 (81 920), 2.57 at 9 233 (NH membrane at Ca_s = 0.01, 5 120). The threshold lies between
 // 616, where ROCK4 must run, and 923, where RKC2 is the cheaper: calibrated, not derived.
+#include <string>
+
 #include "capsflow/core/stepping/time_scheme.hpp"
 
 namespace capsflow {
@@ -27,6 +29,9 @@ struct Scene;
 inline TimeScheme auto_scheme(double analytic_spectral_radius) {
   return analytic_spectral_radius < kAutoSchemeRock4BelowStiffness ? TimeScheme::Rock4 : TimeScheme::Rkc;
 }
+
+// Why: "the analytic spectral radius 461 is below 800" (the run's log and `capsflow info`).
+std::string auto_scheme_reason(double analytic_spectral_radius);
 
 // Where "auto" chose the scheme and the step is error-controlled: the scheme for this mesh, whose
 // shortest edge is min_edge. A fixed time.dt keeps RKC2, which the scene rules chose.
