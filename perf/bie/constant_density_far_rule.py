@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Does the far rule's error on a CONSTANT double-layer density fall with h? (issue 24, perf/RESULTS.md §11.4)
+"""Does the far rule's error on a CONSTANT double-layer density fall with h? (perf/RESULTS.md §1.6)
 
 If D̃[1]'s far part came from an identity (the polyhedral corner tensor minus exact integrals over
 the near elements) instead of the far rule itself, the operator would carry the far rule's error on

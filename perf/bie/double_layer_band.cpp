@@ -1,7 +1,7 @@
 // double_layer_band — how many edge hops of 3-point Gauss correction (the band, §4.2.2) the double
 // layer's edge-midpoint far field needs (docs/boundary-integral.md §4.7.3). D_h[u] at every node,
 // with the band m = 1 (none beyond the near ring) … 4 and with the Gauss-point far field (6N
-// sources, before issue 23), against a reference whose 7-point ring reaches 3 hops and whose band
+// sources, before the edge-midpoint rule), against a reference whose 7-point ring reaches 3 hops and whose band
 // reaches 8; largest node difference relative to max |u|. On the unit sphere also the error of the
 // default (kAutoDoubleLayerCorrectedLayers) and of the reference against the exact eigenvalue: the
 // discretisation error, which the quadrature error must stay well below.

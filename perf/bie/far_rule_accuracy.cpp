@@ -4,7 +4,7 @@
 //   layers, the 3-point Gauss rule on the layers up to m, and a cheap rule R beyond m,
 // for R = vertex (nodal sources, N of them), centroid (2N), edge midpoint (3N, shared by the two
 // elements of an edge), vertex + centroid (degree 2, 3N), and the 3-point Gauss rule itself (6N,
-// the far field before issue 23), and compares with a converged integral over the same surface
+// the far field before the edge-midpoint rule), and compares with a converged integral over the same surface
 // (adaptive subdivision until every part is 8 of its sizes away) and, on the sphere, with the
 // classical solutions. Max over the sampled nodes, relative to max |u|.
 //   far_rule_accuracy --level 4 --targets 30 [--geometry curved] [--aspect 4] [--ring 1] [--max-layers 8]

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""far_rule_observables.py — does the edge-midpoint far field move the observables? (issue 23 item 5)
+"""far_rule_observables.py — does the edge-midpoint far field move the observables? (perf/RESULTS.md §2.2)
 
 For each mesh level, two runs of the same scene that differ only in `fluid.far_rule` ("auto": one
 source per edge midpoint on flat facets; "gauss_points": three Gauss points per element, the far
-field before issue 23). Every D_ij, L_i, Le_i at the given times is compared, and the difference
+field before the edge-midpoint rule). Every D_ij, L_i, Le_i at the given times is compared, and the difference
 is judged against max(1e-5, a tenth of the discretisation error that `capsflow study` measured at
 that level (its study.csv: error_L<level> = value − extrapolated limit, per observable and time;
 where the study found no limit, the change to the next level, marked Δ).

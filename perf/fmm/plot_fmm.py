@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 RES = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, "results")
 
-# PVFMM and FMM3D on this machine kind (issue 6; sphere surface, sources = targets, 2 threads)
+# PVFMM and FMM3D on this machine kind (the floors' peers; sphere surface, sources = targets, 2 threads)
 PEERS = {
     "PVFMM": {1e4: [(0.04 + 0.19, 1.3e-5), (0.09 + 0.21, 2.2e-7)],
               1e5: [(0.14 + 0.95, 1.2e-5), (0.18 + 1.49, 1.6e-7), (0.49 + 2.29, 4.8e-10)],

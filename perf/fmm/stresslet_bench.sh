@@ -16,7 +16,7 @@ F="$B/perf/fmm/fmm_bench --threads 2"
 for k in stokeslet stresslet; do
   "$B/perf/fmm/direct_bench" --threads 2 --n 20000 --ntrg 20000 --kernel $k >> "$OUT/direct.jsonl"
 done
-# 2. the floor of issue 24: N = 1e5, tolerance 1e-6, each kernel at its calibrated order, every
+# 2. the stresslet's floor (≤ 2× the Stokeslet): N = 1e5, tolerance 1e-6, each kernel at its calibrated order, every
 #    distribution; then N = 1e6 and capsule shapes (6 Gauss-point sources per node, sources != targets)
 : > "$OUT/floor.jsonl"
 for d in sphere spheroid cube clustered; do

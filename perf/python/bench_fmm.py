@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""capsflow.fmm.stokeslet against the C++ benchmark on the same points (issue 25's floor: within 5 %).
+"""capsflow.fmm.stokeslet against the C++ benchmark on the same points (floor: within 5 %, perf/RESULTS.md §1.7).
 
     PYTHONPATH=BUILD/python python3 perf/python/bench_fmm.py --build BUILD [--n 1e5] [--tol 1e-6]
         [--threads 2] [--reps 5] [--dist sphere]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""capsflow.run of the built-in scene against `capsflow run` (issue 25's floor: within 2 % of its wall time).
+"""capsflow.run of the built-in scene against `capsflow run` (floor: within 2 % of its wall time, perf/RESULTS.md §1.7).
 
     PYTHONPATH=BUILD/python python3 perf/python/bench_run.py --build BUILD [--reps 3] [--threads 2]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Same-numbers check for refactors that must not change results (issue 22 item 8).
+"""Same-numbers check for refactors that must not change results (the project's same-numbers rule).
 
   run:     same_numbers.py run EXE OUTDIR [CASE...]
                                              every scene in scenes/ to γ̇t = 0.3 and the built-in

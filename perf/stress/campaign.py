@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""Stress campaign (issue 12): run capsflow over a matrix of capillary numbers, laws, walls, shapes
+"""Stress campaign: run capsflow over a matrix of capillary numbers, laws, walls, shapes
 and flows, and record how each run ends, what the health monitors saw and what it cost.
 
-    perf/stress/campaign.py --matrix small -o stress-out        # the matrix of perf/RESULTS.md §7
-    perf/stress/campaign.py --matrix full  -o stress-out        # the issue's full sweep (hours)
+    perf/stress/campaign.py --matrix small -o stress-out        # the small matrix of perf/RESULTS.md §3.2
+    perf/stress/campaign.py --matrix full  -o stress-out        # the full sweep (hours)
 
 Every run is an ordinary `capsflow run` in OUT/<name>/ with `time.stop_on` set to every health
 condition, so a run ends at the first sign of trouble with a named stop_reason. Finished runs are
@@ -38,7 +38,7 @@ MATRICES = {
     # both flows, two shapes, Ca_s over four decades (48 runs, ≈ 15 min on 2 cores).
     "small": [dict(ca=[1e-3, 0.1, 10.0], level=[3], t_end=3.0, steady=False, walls=[MEMBRANE, GSMB3], laws=[NH, SK10],
                    shapes=[("sphere", 1.0), ("spheroid", 2.0)], flows=BOTH_FLOWS)],
-    # The issue's sweep as blocks that vary one factor at a time around the NH sphere (the full product
+    # The full sweep as blocks that vary one factor at a time around the NH sphere (the full product
     # of every factor, 9 × 5 × 5 × 4 × 2 × 2 = 3600 runs per level, would take days on 2 cores).
     # To γ̇t = 5, stopping at a steady state; the cheap and the telling runs first (1280 elements, the
     # shells past their folds, 5120 elements at Ca_s ≥ 0.1, a few at 20 480), the stiff ones last, so a
@@ -91,7 +91,7 @@ def runs(matrix, scheme="auto"):
                     "flow.ca_s": ca, "time.t_end": t_end, "output.every": 0.1, "output.checkpoint_every": 1.0,
                     "time.stop_on": "[" + ",".join(f'"{c}"' for c in stop_on) + "]",
                     # The default, "auto" (ROCK4 or RKC2 by the wall's stiffness on its mesh), unless
-                    # --scheme names one (the tables before session 29: rkc).
+                    # --scheme names one (the older tables in perf/stress/results.md and full/ ran rkc).
                     "time.scheme": scheme}
             if steady:
                 sets["time.stop_at_steady"] = "true"

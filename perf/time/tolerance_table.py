@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 23 item 3: RKC's time tolerance against the error it delivers, per paper case and mesh level.
+"""The time tolerance against the error it delivers, per paper case and mesh level.
 
 For every case and level this runs (one simulation at a time, `--threads 1`, build/bin/capsflow):
   rkc_auto                       RKC at time.tolerance = "auto" (docs/time-integration.md §5.8)
@@ -18,10 +18,12 @@ limit, 2/ρ, flow cap), recomputed before every step from the current shape (doc
 from one moment. Heun is second order: the reference's own error is about |D(half) − D(ref)|/3
 (Richardson: e(h/2) − e(h/4) = (1/4 − 1/16) C h² = 3 e(h/4)), which the table reports per case.
 
-The item (issue 23, 3.): at the default settings, D_ij within 1e-4 of the reference at every output time
-with at least 5× fewer evaluations than `heun`. The default scheme is `auto`: RKC (tolerance "auto") for
-every wall since session 25 (before, Heun for a membrane, whose default row was then `heun` itself, 1×), so
-the default row is `rkc_auto`; `--membrane-default-heun` marks `heun` instead, for binaries before it.
+The target (perf/RESULTS.md §2.7): at the default settings, D_ij within 1e-4 of the reference at every output time
+with at least 5× fewer evaluations than `heun`. The default scheme is `auto`: ROCK4 where the analytic
+spectral radius is below 800 flow rates, RKC2 above (both at time.tolerance = "auto"); to tabulate the
+default, add a variant without options and name it: `--extra 'default=' --default-variant default`.
+`--default-variant rkc_auto` marks RKC2's row, as binaries did where "auto" was RKC2 for every wall;
+`--membrane-default-heun` marks `heun` for a membrane, for binaries where "auto" was Heun there.
 
 Runs go to WORK/<case>_L<level>/<variant>/ and are reused when their summary.json says t_end was
 reached with the same command line (WORK/.../cmd.txt); delete a folder to redo it.
@@ -56,13 +58,13 @@ CASES = {
     "builtin": (None, [], "built-in scene (scenes/quick.toml)"),
     # The a/b = 4 spheroid of TimeSchemes.RkcIsStableOnTheAspectFourSpheroid: the built-in scene, aspect 4.
     "ab4": (None, ["--set", "mesh.aspect=4"], "built-in scene at a/b = 4"),
-    # The large-deformation membrane benchmark (issue 15), to γ̇t = 8: Ca_s = 0.6, a soft membrane.
+    # The large-deformation membrane benchmark (scenes/sphere_nh_shear_ca06.toml), to γ̇t = 8: Ca_s = 0.6, a soft membrane.
     "nh_ca06": ("scenes/sphere_nh_shear_ca06.toml", [], "NH membrane sphere, Ca_s = 0.6 (large deformation)"),
     # λ ≠ 1 (the double layer's second-kind solve), run to γ̇t = 5 rather than to their steady state
     "lambda02": ("scenes/sphere_shear_lambda02.toml", ["--set", "time.stop_at_steady=false"], "NH sphere in shear, λ = 0.2"),
     "lambda5": ("scenes/sphere_shear_lambda5.toml", ["--set", "time.stop_at_steady=false"], "NH sphere in shear, λ = 5"),
 }
-# Cases' own t_end (scenes/quick.toml: 2; the issue-15 benchmark: 8); the paper scenes end at 5.
+# Cases' own t_end (scenes/quick.toml: 2; the large-deformation benchmark: 8); the paper scenes end at 5.
 CASE_T_END = {"builtin": 2.0, "ab4": 2.0, "nh_ca06": 8.0}
 T_END_DEFAULT = 5.0
 
@@ -189,7 +191,7 @@ def main():
     ap.add_argument("--default-variant", default="rkc_auto",
                     help="the variant that runs the binary's default scheme and tolerance (rkc_auto, rock4_auto)")
     ap.add_argument("--membrane-default-heun", action="store_true",
-                    help="mark Heun as a membrane's default (binaries before session 25)")
+                    help="mark Heun as a membrane's default (binaries where \"auto\" was Heun for a membrane)")
     a = ap.parse_args()
     global MEMBRANE_DEFAULT_HEUN, DEFAULT_VARIANT
     MEMBRANE_DEFAULT_HEUN = a.membrane_default_heun

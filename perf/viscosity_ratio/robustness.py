@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Issue 24's robustness table: the viscosity ratio λ = 0.01, 0.1, 10, 100 run to γ̇t = 5 on the sphere
+"""The λ ≠ 1 robustness table (perf/RESULTS.md §3.4): the viscosity ratio λ = 0.01, 0.1, 10, 100 run to γ̇t = 5 on the sphere
 and on an a/b = 2 prolate spheroid (axis along the flow, x1, so that it lies in the shear plane),
 neo-Hookean membrane, simple shear, Ca_s = 0.3 (as scenes/sphere_shear_lambda5.toml), 1280 elements
 (mesh.level 3), one thread. Prints one markdown row per run: how it stopped, steps, right-hand-side
