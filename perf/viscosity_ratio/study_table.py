@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# perf/RESULTS.md §11.3: tables from a study folder (capsflow study ... -o DIR): the study's own orders
+# perf/RESULTS.md §2.6: tables from a study folder (capsflow study ... -o DIR): the study's own orders
 # (study.csv) for D_ij, Le_i, area; the same three-level rule (p = log2(e1/e2), asymptotic when the two
 # differences share a sign and p is in [0.5, 6]) applied to timeseries columns D_flow, theta, tank_treading,
 # which the study does not analyse. Usage: study_table.py DIR
