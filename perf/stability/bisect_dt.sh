@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Bisection of the largest stable fixed time step: the calibration of dt = "auto"
-# (src/include/capsflow/core/stepping/stability.hpp, perf/RESULTS.md §3.1, docs/time-integration.md §5.2.3).
+# (src/include/capsflow/core/stepping/stability.hpp, perf/RESULTS.md §3.1, docs/time-integration.md §5.9.3).
 #
 # A run "blows up" when capsflow stops with exit code 3 (stop_reason blow_up) before t_end; the
 # script bisects dt between a stable and an unstable value and prints one JSON line:

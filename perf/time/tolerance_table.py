@@ -2,8 +2,8 @@
 """The time tolerance against the error it delivers, per paper case and mesh level.
 
 For every case and level this runs (one simulation at a time, `--threads 1`, build/bin/capsflow):
-  rkc_auto                       RKC at time.tolerance = "auto" (docs/time-integration.md §5.8)
-  rock4_auto                     ROCK4 at time.tolerance = "auto" (§5.9–5.10: 2e-3 × 1280/N)
+  rkc_auto                       RKC at time.tolerance = "auto" (docs/time-integration.md §5.3)
+  rock4_auto                     ROCK4 at time.tolerance = "auto" (§5.8: 2e-3 × 1280/N)
   rkc_1e-6, rkc_1e-5, rkc_5e-5   RKC at these tolerances
   heun                           Heun at its automatic step (dt_safety 0.7, the default): the cost to beat
   ref                            Heun at a quarter of the automatic step (time.dt_safety = 0.175)
@@ -14,7 +14,7 @@ iterations for ρ included) and Heun's evaluations divided by them.
 
 Why dt_safety = 0.175 is a quarter-step reference: Heun's automatic step is dt_safety × min(calibrated
 limit, 2/ρ, flow cap), recomputed before every step from the current shape (docs/time-integration.md
-§5.2.2), so 0.175 = 0.7/4 takes a quarter of the automatic step at every state, not a fixed step picked
+§5.9.2), so 0.175 = 0.7/4 takes a quarter of the automatic step at every state, not a fixed step picked
 from one moment. Heun is second order: the reference's own error is about |D(half) − D(ref)|/3
 (Richardson: e(h/2) − e(h/4) = (1/4 − 1/16) C h² = 3 e(h/4)), which the table reports per case.
 
@@ -34,7 +34,7 @@ Usage:
                                [--out perf/time/tolerance_L3] [--variants rkc_1e-6,heun,ref,...]
                                [--extra NAME='--set k=v ...'] [--dry-run] [--no-run]
   --extra: leading NAME=VALUE words set the environment of that run, EXE=path runs another binary
-  (perf/time/tolerance_L3_norms.* came from an experimental binary: docs/time-integration.md §5.7).
+  (perf/time/tolerance_L3_norms.* came from an experimental binary: docs/time-integration.md §5.6).
   The reference must be run by the same --exe, since a run is reused only if its command matches.
 """
 import argparse
@@ -70,7 +70,7 @@ T_END_DEFAULT = 5.0
 
 VARIANTS = {
     "rkc_auto": ["--set", "time.scheme=rkc"],
-    "rock4_auto": ["--set", "time.scheme=rock4"],  # ROCK4 at its own "auto" tolerance (§5.9–5.10)
+    "rock4_auto": ["--set", "time.scheme=rock4"],  # ROCK4 at its own "auto" tolerance (§5.8)
     "rkc_1e-6": ["--set", "time.scheme=rkc", "--set", "time.tolerance=1e-6"],
     "rkc_1e-5": ["--set", "time.scheme=rkc", "--set", "time.tolerance=1e-5"],
     "rkc_5e-5": ["--set", "time.scheme=rkc", "--set", "time.tolerance=5e-5"],
