@@ -8,7 +8,6 @@
 
 #include "capsflow/core/info/scene_info.hpp"
 #include "capsflow/core/scene/scene_keys.hpp"
-#include "capsflow/core/stepping/auto_scheme.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {
@@ -86,12 +85,8 @@ int info_command(const InfoOptions& opt) {
   auto wall = [&](double evals) {
     return std::isfinite(seconds_per_eval) ? fmt::format(", ~{:.0f} s", evals * seconds_per_eval) : std::string();
   };
-  std::string why_scheme;
-  if (r["scheme_auto"].get<bool>())
-    why_scheme = r["time_step"]["kind"] == "fixed"
-                     ? " (auto with a fixed time.dt: RKC2)"
-                     : " (auto: " + auto_scheme_reason(num(rho["analytic"])) + "; docs/time-integration.md §5.12)";
-  fmt::print("time scheme     {}{}\n", r["scheme"].get<std::string>(), why_scheme);
+  fmt::print("time scheme     {} ({}; docs/time-integration.md §5.12)\n", r["scheme"].get<std::string>(),
+             r["time_plan"]["reason"].get<std::string>());
   auto count = [](double steps) {
     return steps < 1e15 ? fmt::format("{:.0f}", steps)
                         : std::isfinite(steps) ? fmt::format("{:.3g}", steps) : std::string("more than 1e308");

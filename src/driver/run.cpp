@@ -52,10 +52,17 @@ std::optional<StopReason> Simulation::Impl::step() {
   const SurfaceMesh now{st.x, ref.triangles};
   steady->add(st.t, surface_area(now), inertia_ellipsoid(now));
   const std::optional<StopReason> health_stop = observe_health();
-  if (!health_stop && tolerance_must_tighten() && tighten_tolerance()) return std::nullopt;  // rewound to t = 0
-  relax_tolerance_past_creases(t_step_start);
-  relax_rock4_tolerance_at_creases();
-  write_due_outputs(t_step_start);
+  // The step is accepted and its state healthy; an inner solve may still fail where the outputs it
+  // passed are evaluated (an interpolated state) or where a rewind starts again: the run stops there,
+  // with the rows written so far, a checkpoint of the state and its summary (finish).
+  try {
+    if (follow_crease_rule(health_stop.has_value())) return std::nullopt;  // rewound to t = 0
+    write_due_outputs(t_step_start);
+  } catch (const SolverFailure& e) {
+    const StopReason r(StopKind::SolverFailure, fmt::format("{} at an output of the step to t = {:g}", e.what(), st.t));
+    spdlog::error("{}; keeping the last healthy state", r.to_string());
+    return stop(r);
+  }
   report_progress(false);
   if (health_stop) return stop(*health_stop);
   if (scene.time.stop_at_steady && steady->steady()) return stop(StopReason(StopKind::Steady));

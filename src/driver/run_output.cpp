@@ -132,6 +132,7 @@ void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
   s.wall_seconds_before = wall_seconds();
   s.rhs_evaluations = rhs_evaluations();
   nlohmann::json extra = s.extra();
+  extra["time_plan"] = plan.to_json();
   extra["health"] = health->state();
   stepper->save(extra, ck.integrator_state);
   if (far_check->enabled()) extra[far_check->name()] = far_check->state(dyn->single_layer());

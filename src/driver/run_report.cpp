@@ -100,12 +100,12 @@ nlohmann::json Simulation::Impl::summary() const {
       {"threads", threads},
       {"steady_measure", steady->measure()}, {"scene", to_json(scene)},
       {"version", version_string()}, {"git", git_hash()},
-      {"scheme", to_string(scene.time.scheme)}, {"rhs_evaluations", rhs_evaluations()},
+      {"scheme", to_string(plan.scheme)}, {"time_plan", plan.to_json()}, {"rhs_evaluations", rhs_evaluations()},
       {"rejected_steps", st.rejected_steps}};
   stepper->summarize(summary, st.x, st.step);
-  if (is_stabilized(scene.time.scheme) && scene.time.dt_auto)  // the error-controlled step's tolerance
-    summary["time_tolerance"] = {{"auto", scene.time.tolerance_auto},
-                                 {"in_force", stepping_scene().time.tolerance},
+  if (plan.error_control)  // the error-controlled step's tolerance
+    summary["time_tolerance"] = {{"auto", plan.tolerance_auto},
+                                 {"in_force", tolerance_in_force()},
                                  {"rewind", st.rewind ? st.rewind->to_json() : nlohmann::json()},
                                  {"creases_seen_at", st.creases_seen_at ? nlohmann::json(*st.creases_seen_at) : nlohmann::json()}};
   summary["health"] = health->summary();

@@ -15,9 +15,6 @@
 #include "capsflow/core/io/version.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
-#include "capsflow/core/stepping/auto_scheme.hpp"
-#include "capsflow/core/stepping/auto_tolerance.hpp"
-#include "capsflow/core/stepping/stability.hpp"
 #include "simulation_impl.hpp"
 
 namespace capsflow {
@@ -27,13 +24,7 @@ void Simulation::Impl::set_up() {
   threads = omp_get_max_threads();
   io::CheckpointState ck;
   set_up_folder(ck);
-  // "auto" picks the scheme from the wall's stiffness on this mesh (stepping/auto_scheme.hpp). A
-  // restart reads the checkpoint's scene, which names the scheme the run chose.
-  resolve_auto_scheme(scene, min_edge_length(ref));
-  // ROCK4's "auto" tolerance follows the mesh (stepping/auto_tolerance.hpp), known only now: the
-  // scene keeps the one up to the creases; stepping_scene() the one in force.
-  if (scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rock4)
-    scene.time.tolerance = auto_tolerance_rock4(static_cast<long>(ref.num_elements()), scene.wall.model == WallModel::Membrane);
+  choose_time_plan(ck);
   mesh_hash = io::mesh_hash(ref.vertices, ref.triangles);
   make_parts();
   if (!opt.restart.empty()) restore(ck);
@@ -42,7 +33,7 @@ void Simulation::Impl::set_up() {
   out = opt.restart.empty() || restart.new_folder ? std::make_unique<io::ResultsWriter>(folder, ref, meta)
                                                   : std::make_unique<io::ResultsWriter>(io::ResultsWriter::reopen(folder, st.t, meta));
   log_set_up();
-  stepper = make_time_stepper(stepping_scene(), ref.triangles, st.volume0, st.x);
+  make_stepper();
   if (!opt.restart.empty()) {
     const auto e = nlohmann::json::parse(ck.extra);
     stepper->load(e, ck.integrator_state, st.x);
@@ -58,6 +49,25 @@ void Simulation::Impl::set_up() {
     tank_treading->update(cur, st.t);  // the rate of the next row is measured from here
   }
   t_segment_start = st.t;
+}
+
+// A new run resolves its plan on its mesh; a restart keeps the checkpoint's unless it changes a key
+// the plan is made of (restart_keeps_time_plan), so that a continued run is stepped as it was.
+void Simulation::Impl::choose_time_plan(const io::CheckpointState& ck) {
+  if (!opt.restart.empty()) {
+    const auto extra = nlohmann::json::parse(ck.extra);
+    if (restart_keeps_time_plan(parse_scene(ck.scene_toml, "checkpoint"), scene)) {
+      plan = TimePlan::from_json(extra.at("time_plan"));
+      plan.reason = "kept from the checkpoint: " + plan.reason;
+      return;
+    }
+  }
+  plan = resolve_time_plan(scene, ref);
+}
+
+void Simulation::Impl::make_stepper() {
+  stepper_tolerance = tolerance_in_force();
+  stepper = make_time_stepper(scene, plan, stepper_tolerance, ref.triangles, st.volume0, st.x);
 }
 
 void Simulation::Impl::make_parts() {
@@ -172,8 +182,6 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
   st.next_output = restart_index(e.at("next_output").get<std::int64_t>(), stored.output.every, scene.output.every, st.t);
   st.next_checkpoint = restart_index(e.at("next_checkpoint").get<std::int64_t>(), stored.output.checkpoint_every,
                                      scene.output.checkpoint_every, st.t);
-  // Periodic checkpoints written before session 25 name their own time as the next one: step past it.
-  if (checkpoint_due()) advance_checkpoint_index();
   if (e.contains("health")) health->set_state(e.at("health"));
   last_output_t = st.t;
 }
@@ -207,14 +215,7 @@ void Simulation::Impl::log_set_up() const {
   if (restart.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path.string());
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
   if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
-  if (scene.time.scheme_auto && scene.time.dt_auto) {
-    spdlog::info("time scheme: {} (auto: {}: {}; docs/time-integration.md §5.12)", to_string(scene.time.scheme),
-                 auto_scheme_reason(analytic_spectral_radius(scene, min_edge_length(ref))),
-                 scene.time.scheme == TimeScheme::Rock4 ? "fourth order pays where accuracy sets the step"
-                                                        : "RKC2's longer stability interval pays where stability does");
-  } else if (scene.time.scheme_auto) {
-    spdlog::info("time scheme: {} (auto with a fixed time.dt: RKC2)", to_string(scene.time.scheme));
-  }
+  spdlog::info("time scheme: {} ({}; docs/time-integration.md §5.12)", to_string(plan.scheme), plan.reason);
 }
 
 }  // namespace capsflow

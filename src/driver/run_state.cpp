@@ -1,4 +1,5 @@
-// The run's own entries of a checkpoint's "extra" JSON (the scheme adds its own: TimeStepper::save).
+// The run's own entries of a checkpoint's "extra" JSON (the time plan and the scheme add theirs:
+// write_checkpoint, TimeStepper::save).
 #include "simulation_impl.hpp"
 
 namespace capsflow {
@@ -18,15 +19,20 @@ void RunState::set_extra(const nlohmann::json& e) {
   volume0 = e.at("volume0");
   area0 = e.at("area0");
   wall_seconds_before = e.at("wall_seconds");
-  // Written since the RKC integrator (absent in older checkpoints: zero).
-  rejected_steps = e.value("rejected_steps", 0L);
-  rhs_evaluations = e.value("rhs_evaluations", 0L);
-  gmres_per_eval_max = e.value("gmres_per_eval_max", 0.0);  // since fluid.viscosity_ratio
-  tolerance_tightened = e.value("tolerance_tightened", false);  // since time.tolerance = "auto"
-  if (e.contains("auto_tolerance_rewind") && !e.at("auto_tolerance_rewind").is_null())
-    rewind = AutoToleranceRewind::from_json(e.at("auto_tolerance_rewind"));
-  if (e.contains("creases_seen_at") && !e.at("creases_seen_at").is_null())  // since ROCK4's looser past the creases
-    creases_seen_at = e.at("creases_seen_at").get<double>();
+  rejected_steps = e.at("rejected_steps");
+  rhs_evaluations = e.at("rhs_evaluations");
+  gmres_per_eval_max = e.at("gmres_per_eval_max");
+  tolerance_tightened = e.at("tolerance_tightened");
+  if (!e.at("auto_tolerance_rewind").is_null()) rewind = AutoToleranceRewind::from_json(e.at("auto_tolerance_rewind"));
+  if (!e.at("creases_seen_at").is_null()) creases_seen_at = e.at("creases_seen_at").get<double>();
+}
+
+CreaseHistory RunState::creases() const {
+  CreaseHistory h;
+  h.seen_at = creases_seen_at;
+  h.tightened = tolerance_tightened;
+  if (rewind) h.tight_until = rewind->t;
+  return h;
 }
 
 nlohmann::json AutoToleranceRewind::to_json() const {

@@ -25,12 +25,13 @@
 #include "capsflow/core/io/results_writer.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
+#include "capsflow/core/stepping/time_plan.hpp"
 #include "capsflow/core/stepping/time_stepper.hpp"
 
 namespace capsflow {
 
-// time.tolerance = "auto" (stepping/auto_tolerance.hpp): the loose part of a run that was discarded
-// when the wall creased at the mesh scale and the run started again from t = 0 (rewind.cpp).
+// The part of a run that was discarded when the wall creased at the mesh scale and the plan started
+// the run again from t = 0 (CreaseAction::Rewind, crease_rule.cpp).
 struct AutoToleranceRewind {
   double t = 0;            // γ̇t at which the creases were seen; the restarted run is tight until here
   long steps = 0;          // accepted steps of the discarded part
@@ -53,9 +54,11 @@ struct RunState {
   long rejected_steps = 0;         // steps retried with a smaller step (all segments)
   long rhs_evaluations = 0;        // right-hand-side evaluations of earlier segments
   double gmres_per_eval_max = 0;   // λ ≠ 1: the largest gmres_per_eval of a timeseries row (all segments)
-  bool tolerance_tightened = false;  // "auto": the creases were seen (the folded tolerance, until rewind->t)
-  std::optional<AutoToleranceRewind> rewind;  // "auto": the discarded loose part, if any
-  std::optional<double> creases_seen_at;  // ROCK4's "auto": γ̇t where the run saw the creases (looser after)
+  // Where the run stands with respect to the creases (the time plan's CreaseAction):
+  bool tolerance_tightened = false;  // Rewind: the creases were seen (the tight tolerance, until rewind->t)
+  std::optional<AutoToleranceRewind> rewind;  // Rewind: the discarded part, if any
+  std::optional<double> creases_seen_at;      // Loosen: γ̇t where the run saw the creases (looser after)
+  CreaseHistory creases() const;
   nlohmann::json extra() const;    // the checkpoint's "extra" entries of the run itself
   void set_extra(const nlohmann::json& e);
 };
@@ -71,7 +74,10 @@ struct Simulation::Impl {
   void make_parts();          // the right-hand side, monitors and watches, fresh
   void start_at_reference();  // the state at t = 0
   void write_first_output();  // the row and checkpoint at the run's start
-  Scene stepping_scene() const;  // the scene with the tolerance in force ("auto": loose or folded)
+  void choose_time_plan(const io::CheckpointState& ck);  // a new plan, or a restart's stored one
+  double tolerance_in_force() const { return plan.tolerance_in_force(st.creases(), st.t); }
+  double stepper_tolerance = 0;  // the tolerance the stepper holds (error control)
+  void make_stepper();  // the plan's scheme at the tolerance in force
   void restore(const io::CheckpointState& ck);
   nlohmann::json metadata() const;
   void log_set_up() const;
@@ -84,13 +90,11 @@ struct Simulation::Impl {
   bool checkpoint_due() const;                  // st.t is the next periodic checkpoint's time
   void advance_checkpoint_index();              // to the first checkpoint time after st.t
   std::optional<StopReason> observe_health();
-  // rewind.cpp: time.tolerance = "auto" once the wall creases at the mesh scale
-  bool wall_creased() const;  // folded at the mesh scale into creases (the criterion of "auto")
-  bool tolerance_must_tighten() const;
-  bool tighten_tolerance();  // true: the run was rewound to t = 0
-  bool folded_tolerance_in_force() const;
-  void relax_tolerance_past_creases(double t_step_start);  // back to the loose tolerance past rewind->t
-  void relax_rock4_tolerance_at_creases();                 // ROCK4: looser from where the creases are seen
+  // crease_rule.cpp: the time plan's CreaseAction once the wall creases at the mesh scale
+  bool wall_creased() const;  // folded at the mesh scale into creases (auto_tolerance.hpp's criterion)
+  bool follow_crease_rule(bool health_stop);  // after an accepted step; true: the run was rewound to t = 0
+  bool rewind_to_start();                     // true: rewound (false: this folder cannot, tight from here)
+  void follow_tolerance_in_force();           // the stepper takes the plan's tolerance where it changes
   std::optional<StopReason> stop(StopReason r);
   // run_output.cpp
   const Points& state_velocity();
@@ -124,7 +128,8 @@ struct Simulation::Impl {
   int threads = 1;
 
   std::unique_ptr<CapsuleDynamics> dyn;    // the right-hand side
-  std::unique_ptr<TimeStepper> stepper;    // the time scheme
+  TimePlan plan;                           // how the run is stepped (stepping/time_plan.hpp)
+  std::unique_ptr<TimeStepper> stepper;    // the plan's scheme
   std::unique_ptr<io::ResultsWriter> out;
   std::unique_ptr<SteadyStateDetector> steady;
   std::unique_ptr<HealthMonitor> health;

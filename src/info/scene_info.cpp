@@ -17,11 +17,11 @@
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
-#include "capsflow/core/stepping/auto_scheme.hpp"
-#include "capsflow/core/stepping/auto_tolerance.hpp"
 #include "capsflow/core/stepping/heun.hpp"
-#include "capsflow/core/stepping/rkc.hpp"
+#include "capsflow/core/stepping/rkc_coefficients.hpp"
+#include "capsflow/core/stepping/rock4_coefficients.hpp"
 #include "capsflow/core/stepping/stability.hpp"
+#include "capsflow/core/stepping/time_plan.hpp"
 
 namespace capsflow {
 
@@ -32,14 +32,13 @@ int stabilized_stages(TimeScheme scheme, double tau_rho) {
 }
 }  // namespace
 
-nlohmann::json scene_info(const Scene& read, bool probe) {
-  const SurfaceMesh mesh = make_reference_mesh(read.mesh);
+nlohmann::json scene_info(const Scene& scene, bool probe) {
+  const SurfaceMesh mesh = make_reference_mesh(scene.mesh);
   const MeshStats st = mesh_stats(mesh);
-  Scene scene = read;
-  resolve_auto_scheme(scene, st.edge_min);  // as the run will (stepping/auto_scheme.hpp)
+  const TimePlan plan = resolve_time_plan(scene, mesh);  // as the run will
   nlohmann::json info;
   info["source"] = scene.source;
-  info["scene_toml"] = to_toml(read);  // as given: "auto" stays "auto" (run.scheme says what it chose)
+  info["scene_toml"] = to_toml(scene);  // as given: "auto" stays "auto" (run.time_plan says what it chose)
   info["note"] = capillary_note(scene);
 
   const VolumeMoments vm = volume_moments(mesh);
@@ -124,13 +123,13 @@ nlohmann::json scene_info(const Scene& read, bool probe) {
   run["spectral_radius"] = radius_info;
   run["seconds_per_evaluation"] = seconds_per_eval;
   run["threads"] = omp_get_max_threads();
-  run["scheme"] = to_string(scene.time.scheme);
-  run["scheme_auto"] = scene.time.scheme_auto;
+  run["scheme"] = to_string(plan.scheme);
+  run["time_plan"] = plan.to_json();
   // Heun's and fixed steps are shortened to land on every output time, so output.every < dt forces more steps.
   // Every output evaluates the velocity at the state once more (the initial and the final one
   // included), and Heun refreshes ρ by power iteration every Heun::kRhoEvery steps from step 0.
   const double outputs = std::ceil(scene.time.t_end / scene.output.every - 1e-9) + 1;
-  if (scene.time.scheme == TimeScheme::Heun) {
+  if (plan.scheme == TimeScheme::Heun) {
     // The run's automatic step also respects 2/ρ when the power iteration measured ρ.
     const double limit = probed ? std::min(se.limit(), 2.0 / rho) : se.limit();
     const double dt = scene.time.dt_auto ? scene.time.dt_safety * limit : scene.time.dt;
@@ -140,9 +139,9 @@ nlohmann::json scene_info(const Scene& read, bool probe) {
                         {"steps", steps}, {"evaluations", 2 * steps + outputs + refreshes * power_evaluations},
                         {"output_evaluations", outputs}, {"rho_refreshes", refreshes},
                         {"evaluations_per_refresh", power_evaluations}, {"evaluations_per_refresh_assumed", !probed}};
-  } else if (!scene.time.dt_auto) {
+  } else if (!plan.error_control) {
     const double dt = scene.time.dt, steps = estimated_steps(scene.time.t_end, scene.output.every, dt);
-    const int s = stabilized_stages(scene.time.scheme, dt * rho);
+    const int s = stabilized_stages(plan.scheme, dt * rho);
     run["time_step"] = {{"kind", "fixed"}, {"dt", dt}, {"stages", s}, {"steps", steps}, {"evaluations", steps * s}};
   } else {
     // The error-controlled step is not known in advance: the cost at typical steps. Its steps land
@@ -153,21 +152,16 @@ nlohmann::json scene_info(const Scene& read, bool probe) {
         scene.output.checkpoint_every > 0 ? std::min(scene.output.checkpoint_every, scene.time.t_end) : scene.time.t_end;
     const double output_evaluations = scene.wants_field(OutputField::Velocity) ? outputs : 0;
     for (double tau : {0.01, 0.03, 0.1}) {
-      const int s = stabilized_stages(scene.time.scheme, tau * rho);
+      const int s = stabilized_stages(plan.scheme, tau * rho);
       const double steps = estimated_steps(scene.time.t_end, landing_every, tau);
       at.push_back({{"dt", tau}, {"stages", s}, {"evaluations", steps * s + output_evaluations}});
     }
-    // ROCK4's "auto" follows the mesh and loosens where the wall creases; RKC's rewinds there.
-    const bool rock4_auto = scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rock4;
-    const double tolerance = rock4_auto ? auto_tolerance_rock4(static_cast<long>(mesh.num_elements()),
-                                                               scene.wall.model == WallModel::Membrane)
-                                        : scene.time.tolerance;
     run["time_step"] = {{"kind", "error_controlled"},
-                        {"tolerance", tolerance},
+                        {"tolerance", plan.tolerance},
                         {"at", at},
-                        {"tolerance_auto", scene.time.tolerance_auto}};
-    if (scene.time.tolerance_auto && scene.time.scheme == TimeScheme::Rkc) run["time_step"]["tolerance_folded"] = kAutoToleranceFolded;
-    if (rock4_auto) run["time_step"]["tolerance_past_creases"] = auto_tolerance_rock4_past_creases(tolerance);
+                        {"tolerance_auto", plan.tolerance_auto}};
+    if (plan.at_creases == CreaseAction::Rewind) run["time_step"]["tolerance_folded"] = plan.crease_tolerance;
+    if (plan.at_creases == CreaseAction::Loosen) run["time_step"]["tolerance_past_creases"] = plan.crease_tolerance;
   }
   run["time_step"]["t_end"] = scene.time.t_end;
   // Measured peak RSS: ≈ 2.4 KB per element with the direct back end (48 MB at 20 480 elements);

@@ -12,7 +12,6 @@
 #include <limits>
 
 #include "capsflow/core/bie/single_layer.hpp"
-#include "capsflow/core/stepping/auto_tolerance.hpp"
 #include "capsflow/fmm/calibration.hpp"
 #include "capsflow/shell/gsmb_wall.hpp"
 #include "key_table.hpp"
@@ -52,20 +51,6 @@ Spellings<shell::LawKind> law_spellings() {
   return out;
 }
 
-// time.scheme: "auto" is written as "auto" until it has chosen for the mesh (stepping/auto_scheme.hpp),
-// then as the scheme it chose, so that a checkpoint's scene continues with that scheme.
-Key<TimeSpec> time_scheme(std::string meaning) {
-  Key<TimeSpec> k = choice("scheme", &TimeSpec::scheme, TimeScheme::Auto, std::move(meaning));
-  k.read = [read = k.read](const TomlReader& r, const std::string& sec, TimeSpec& t) {
-    read(r, sec, t);
-    if (r.has(sec, "scheme")) t.scheme_auto = t.scheme == TimeScheme::Auto;
-  };
-  const auto written = [](const TimeSpec& t) { return to_string(t.scheme_auto && !t.scheme_for_mesh ? TimeScheme::Auto : t.scheme); };
-  k.to_json = [written](const TimeSpec& t) { return nlohmann::json(written(t)); };
-  k.to_toml = [written](const TimeSpec& t) { return std::optional<std::string>(quoted(written(t))); };
-  return k;
-}
-
 // A number in `range` or "auto", which sets the flag and puts `when_auto` in the number:
 // time.dt (a fixed step, or the scheme's own) and time.tolerance.
 Key<TimeSpec> number_or_auto(const std::string& name, double TimeSpec::*value, bool TimeSpec::*is_auto,
@@ -102,13 +87,12 @@ Key<TimeSpec> time_dt(std::string meaning) {
   return number_or_auto("dt", &TimeSpec::dt, &TimeSpec::dt_auto, above(0.0), "a positive number", 0.0, std::move(meaning));
 }
 
-// time.tolerance: a number in [1e-9, 0.1] or "auto" (the loose tolerance, tightened by a rewind
-// once the wall creases at the mesh scale: stepping/auto_tolerance.hpp). Under "auto", `tolerance`
-// holds the tolerance the run starts with, so whoever reads the number reads what RKC uses first.
+// time.tolerance: a number in [1e-9, 0.1] or "auto", which the time plan resolves for the scheme and
+// mesh (stepping/time_plan.hpp); the number then holds 0, read by no one.
 Key<TimeSpec> time_tolerance(std::string meaning) {
   const Range<double> range = closed(1e-9, 1e-1).because("units of ℓ");
   return number_or_auto("tolerance", &TimeSpec::tolerance, &TimeSpec::tolerance_auto, range, "a number in " + range.interval(),
-                        kAutoToleranceLoose, std::move(meaning));
+                        0.0, std::move(meaning));
 }
 
 // flow.ca_v: written to TOML only as the comment on ca_s's line (one of the two is the input).
@@ -226,7 +210,7 @@ const Section<FlowSpec>& flow_keys() {
 const Section<TimeSpec>& time_keys() {
   static const Section<TimeSpec> s{
       "time", &Scene::time,
-      {time_scheme("Heun at the stability-limited step (§5.1–5.2), damped RKC2 with error control "
+      {choice("scheme", &TimeSpec::scheme, TimeScheme::Auto, "Heun at the stability-limited step (§5.1–5.2), damped RKC2 with error control "
                    "(`docs/time-integration.md` §5.7), or `\"rock4\"`: a fourth-order stabilised scheme with error "
                    "control (§5.9); `\"auto\"`: with `dt = \"auto\"`, ROCK4 where the wall's analytic spectral radius on the "
                    "reference mesh is below 800 flow rates (soft for its mesh: accuracy sets the step) and RKC2 "
@@ -278,7 +262,7 @@ const Section<FluidSpec>& fluid_keys() {
        choice("far_rule", &FluidSpec::far_rule, bie.far_rule,
               "far-field sources (`docs/boundary-integral.md` §4.2.1): `\"auto\"` takes one per edge midpoint on flat facets "
               "(3 per node) and three Gauss points per element on curved ones (6 per node); `\"gauss_points\"` on flat "
-              "facets is the far field before issue 23, kept to measure the edge-midpoint rule against it"),
+              "facets is the former 6-per-node far field, kept to measure the edge-midpoint rule against it"),
        boolean("volume_correction", &FluidSpec::volume_correction, true,
                "remove the discrete net flux at every stage (`docs/time-integration.md` §5.3)"),
        integer("fmm_order", &FluidSpec::fmm_order, bie.fmm_order,

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "capsflow/core/stepping/auto_tolerance.hpp"
 #include "key_table.hpp"
 
 namespace capsflow::scene_detail {
@@ -20,14 +19,6 @@ void derive(Scene& s) {
     if (f.type == FlowType::PlanarHyperbolic) f.gradient.diagonal() << 1, 0, -1;  // v∞ = x1 e1 − x3 e3 (paper Eq. 39)
     if (f.type == FlowType::SimpleShear) f.gradient(0, 1) = 1;                  // v∞ = x2 e1
   }
-  // RKC2 until the mesh is known: with an error-controlled step the run (and `capsflow info`) then
-  // picks ROCK4 or RKC2 from the wall's stiffness on that mesh (stepping/auto_scheme.hpp); a fixed
-  // time.dt keeps RKC2.
-  if (s.time.scheme_auto) s.time.scheme = TimeScheme::Rkc;
-  // ROCK4's follows the mesh: the driver sets it once the mesh is built (auto_tolerance_rock4);
-  // until then, the value at 1 280 elements.
-  if (s.time.tolerance_auto && s.time.scheme == TimeScheme::Rock4)
-    s.time.tolerance = kAutoToleranceRock4At1280;
 }
 
 namespace {

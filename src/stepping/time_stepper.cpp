@@ -9,8 +9,10 @@
 #include "capsflow/core/scene/scene.hpp"
 #include "capsflow/core/stepping/grid_scale_filter.hpp"
 #include "capsflow/core/stepping/heun.hpp"
-#include "capsflow/core/stepping/rkc.hpp"
+#include "capsflow/core/stepping/rkc2.hpp"
+#include "capsflow/core/stepping/rock4.hpp"
 #include "capsflow/core/stepping/stability.hpp"
+#include "capsflow/core/stepping/time_plan.hpp"
 
 namespace capsflow {
 
@@ -39,38 +41,40 @@ std::unique_ptr<TimeStepper> make_heun(const Scene& scene, const Triangles& tria
   return std::make_unique<Heun>(std::move(o));
 }
 
-std::unique_ptr<TimeStepper> make_rkc(const Scene& scene, const Triangles& triangles, double volume0) {
-  Rkc::Options o;
-  o.method = scene.time.scheme == TimeScheme::Rock4 ? Rkc::Method::Rock4 : Rkc::Method::Rkc2;
-  o.tolerance = scene.time.tolerance;
-  o.error_control = scene.time.dt_auto;
-  o.fixed_dt = scene.time.dt_auto ? 0.0 : scene.time.dt;
+StabilizedStepper::Options stabilized_options(const Scene& scene, const TimePlan& plan, double tolerance,
+                                              const Triangles& triangles, double volume0) {
+  StabilizedStepper::Options o;
+  o.tolerance = tolerance;
+  o.error_control = plan.error_control;
+  o.fixed_dt = plan.error_control ? 0.0 : scene.time.dt;
   // The calibrated Heun limit gives the analytic bound used when the power iteration does not converge.
   o.analytic_rho = [scene, triangles](const Points& y) {
     return analytic_spectral_radius(scene, min_edge_length(SurfaceMesh{y, triangles}));
   };
-  // RKC's large steps add O(τ³) volume error per step that the velocity-level correction cannot
+  // The large steps add O(τ³) volume error per step that the velocity-level correction cannot
   // see: project each new state back onto the initial volume.
   if (scene.fluid.volume_correction)
     o.project = [triangles, volume0, scratch = Points()](Points& y) mutable { project_volume(y, triangles, volume0, scratch); };
-  if (o.method == Rkc::Method::Rock4) {
-    auto filter = std::make_shared<GridScaleFilter>(triangles, kRock4ErrorFilterPasses);
-    o.filter_error = [filter](Points& estimate) { filter->apply(estimate); };
-  }
-  return std::make_unique<Rkc>(std::move(o));
+  return o;
+}
+
+std::unique_ptr<TimeStepper> make_rock4(StabilizedStepper::Options o, const Triangles& triangles) {
+  auto filter = std::make_shared<GridScaleFilter>(triangles, kRock4ErrorFilterPasses);
+  o.filter_error = [filter](Points& estimate) { filter->apply(estimate); };
+  return std::make_unique<Rock4>(std::move(o));
 }
 
 }  // namespace
 
-std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const Triangles& triangles, double volume0,
-                                               const Points& x) {
-  switch (scene.time.scheme) {
-    case TimeScheme::Rkc:
-    case TimeScheme::Rock4: return make_rkc(scene, triangles, volume0);
+std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const TimePlan& plan, double tolerance,
+                                               const Triangles& triangles, double volume0, const Points& x) {
+  switch (plan.scheme) {
+    case TimeScheme::Rkc: return std::make_unique<Rkc2>(stabilized_options(scene, plan, tolerance, triangles, volume0));
+    case TimeScheme::Rock4: return make_rock4(stabilized_options(scene, plan, tolerance, triangles, volume0), triangles);
     case TimeScheme::Heun: return make_heun(scene, triangles, x);
-    case TimeScheme::Auto: break;  // resolved when the scene is read
+    case TimeScheme::Auto: break;  // the plan never holds it
   }
-  throw std::logic_error("make_time_stepper: the scene's time scheme was not resolved");
+  throw std::logic_error("make_time_stepper: the time plan holds no scheme");
 }
 
 }  // namespace capsflow

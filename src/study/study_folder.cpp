@@ -13,7 +13,6 @@
 #include "capsflow/core/io/output_folder.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
-#include "capsflow/core/stepping/auto_scheme.hpp"
 #include "capsflow/core/study/study_report.hpp"
 
 namespace capsflow::study {
@@ -38,12 +37,10 @@ bool same_value(const nlohmann::json& a, const nlohmann::json& b) {
   return a == b;
 }
 
-// Refuses a variant folder holding a run of another scene (another study, or changed --set). The
-// run stored the scheme that "auto" chose for its mesh: compared with the same choice.
+// Refuses a variant folder holding a run of another scene (another study, or changed --set); the
+// run stored its scene as written, "auto" included.
 void check_same_scene(const Variant& v, const fs::path& folder, const nlohmann::json& stored) {
-  Scene here = v.scene;
-  if (here.time.scheme_auto) resolve_auto_scheme(here, min_edge_length(make_reference_mesh(here.mesh)));
-  const std::string diff = first_scene_difference(to_json(here), stored);
+  const std::string diff = first_scene_difference(to_json(v.scene), stored);
   if (!diff.empty())
     fail(quoted(folder) + " holds a run of another scene (" + diff + "); pass --overwrite to run the variant " + v.name +
          " again, or choose another -o");

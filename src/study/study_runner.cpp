@@ -56,7 +56,7 @@ int run_sequentially(const StudyPlan& plan, const StudyOptions& o, std::vector<V
       if (open(j)) ++left, s += cost.predict(plan.variants[j].family, plan.variants[j].elements);
     if (left == 0) return std::string("done");
     const std::string growth =
-        fmt::format("time ∝ N^{:.2f}{}", cost.exponent(), cost.fitted() ? " fitted" : rkc ? " assumed (RKC)" : " assumed (Heun)");
+        fmt::format("time ∝ N^{:.2f}{}", cost.exponent(), cost.fitted() ? " fitted" : rkc ? " assumed (stabilised)" : " assumed (Heun)");
     return fmt::format("ETA {} for {} more ({})", hms(s), left, growth);
   };
   for (std::size_t i = 0; i < n; ++i) {

@@ -193,8 +193,8 @@ TEST(Cli, TooLargeFixedStepStopsCleanlyAsBlowUp) {
 
 // Both schemes. Heun lands on every output time, so any of them is a point the uninterrupted run
 // passes too; RKC (the default) lands on checkpoint times and t_end only, so there the
-// interruption is at a checkpoint time — and resumes from a periodic checkpoint, which until
-// session 25 named its own time as the next checkpoint and left a restart no time to step.
+// interruption is at a checkpoint time — and resumes from a periodic checkpoint, which must name
+// the next checkpoint after its own time, or a restart has no time to step.
 TEST(Cli, RestartMatchesUninterruptedRun) {
   for (const auto& [scheme, t_stop] : {std::pair<std::string, std::string>{"heun", "0.15"}, {"rkc", "0.2"}}) {
     SCOPED_TRACE(scheme);
@@ -245,7 +245,7 @@ TEST(Cli, VersionPrintsGitAndDependencies) {
   EXPECT_NE(r.out.find("git"), std::string::npos);
 }
 
-// ---- issue 14: data safety and input hardening ----
+// ---- data safety and input hardening ----
 
 TEST(Cli, RestartRefusesAFolderOfAnotherRunAndLeavesItUntouched) {
   // Item 1. `--restart A/checkpoint.h5 -o B` with B another, finished run: B's later steps were
@@ -359,7 +359,7 @@ TEST(Cli, AFullDiskIsAOneLineErrorWithExitCode1NotACrash) {
     EXPECT_NE(err.find("File too large"), std::string::npos) << err;
     // 50 kB holds the first output and the checkpoint written as the run starts (each file is
     // limited on its own): the run can be continued although the limit struck before the first
-    // periodic checkpoint at γ̇t = 0.02 (issue 27: at 40 kB no checkpoint was left at all).
+    // periodic checkpoint at γ̇t = 0.02 (at 40 kB no checkpoint is left at all).
     if (blocks == 100) {
       EXPECT_TRUE(fs::exists(out / "checkpoint.h5")) << err;
     }
@@ -397,7 +397,7 @@ TEST(Cli, SigintStopsARunWithAHugeTEndAndTheProcessIsNamedCapsflow) {
   // /proc/self/exe named the process "exe" in ps.
   TempDir d;
   const fs::path out = d.path / "out";
-  // Outputs and checkpoints every 1e302: 1e6 of each, within the counts a scene may ask for (issue 27).
+  // Outputs and checkpoints every 1e302: 1e6 of each, within the counts a scene may ask for.
   const pid_t pid = spawn(std::string("run ") + kTiny +
                               " --set time.t_end=1e308 --set output.every=1e302 --set output.checkpoint_every=1e302 -o " +
                               out.string(),
@@ -480,7 +480,7 @@ TEST(Cli, TheTimingTableHasTheCpuSecondsOfEveryPhase) {
   EXPECT_EQ(timing.at("threads"), 2);  // kTiny's --threads 2
 }
 
-// Issue 27: `info` predicted 2 evaluations per Heun step (110 here) where the run made 139: every
+// `info` predicted 2 evaluations per Heun step (110 here) where the run made 139: every
 // output evaluates the velocity once more, and ρ is refreshed by power iteration every 50 steps.
 TEST(Cli, InfoPredictsTheEvaluationsOfAHeunRun) {
   TempDir d;
@@ -498,7 +498,7 @@ TEST(Cli, InfoPredictsTheEvaluationsOfAHeunRun) {
   EXPECT_NEAR(predicted, made, 0.10 * made) << i.out;
 }
 
-// Issue 27: a forced fluid.fmm_order with the direct back end was silently ignored; `info` and the
+// A forced fluid.fmm_order with the direct back end was silently ignored; `info` and the
 // run now warn (docs §2.6).
 TEST(Cli, AForcedFmmOrderThatTheDirectSumIgnoresIsWarnedAbout) {
   TempDir d;
@@ -511,7 +511,7 @@ TEST(Cli, AForcedFmmOrderThatTheDirectSumIgnoresIsWarnedAbout) {
   EXPECT_NE((r.out + r.err).find("fluid.fmm_order = 8 is not used"), std::string::npos) << r.out << r.err;
 }
 
-// Issue 27: the step and output counts are bounded before anything runs: by `info`, and on a
+// The step and output counts are bounded before anything runs: by `info`, and on a
 // restart for what --set changes (the scene of a restart is checked like any other).
 TEST(Cli, CountsBeyondTheBoundAreRefusedByInfoAndOnARestart) {
   TempDir d;

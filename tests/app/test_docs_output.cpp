@@ -27,7 +27,7 @@ std::vector<std::string> documented_columns() {
 
 }  // namespace
 
-// Issue 27: §3.4 listed wall_seconds after the health columns; the file has it after
+// §3.4 listed wall_seconds after the health columns; the file has it after
 // steady_measure. A run with fluid.verify_every > 0 and fluid.viscosity_ratio ≠ 1 writes every
 // documented column.
 TEST(DocsOutput, CsvColumnsAreListedInTheOrderOfTheFile) {

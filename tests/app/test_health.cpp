@@ -214,7 +214,7 @@ TEST(Health, HeunAutoStepIsStableOnElongatedSpheroidsItsConstantWasNotCalibrated
 
 TEST(Health, StopAtSteadyWaitsForTheShapeToSettle) {
   // scenes/quick.toml met the paper's area criterion at γ̇t = 1.05 (D13 = 0.1105) and stopped there,
-  // while D13 went on to 0.1158 by γ̇t = 4 (issue 12). With the full-window and D_ij-plateau tests a
+  // while D13 went on to 0.1158 by γ̇t = 4. With the full-window and D_ij-plateau tests a
   // stop, if any, must come with D13 within 2e-3 of its value at γ̇t = 4 of an uninterrupted run
   // (twice the 1e-3 plateau tolerance per unit time: the drift left after the plateau test).
   const std::string scene = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/quick.toml";

@@ -1,4 +1,4 @@
-// One writer per folder (issue 27): two real capsflow processes on one folder. The first holds the
+// One writer per folder: two real capsflow processes on one folder. The first holds the
 // folder's lock for its whole life; the second is refused at once with one line naming the first
 // (pid, command), exit 1, and changes nothing. Each test is bounded in time: the first process is
 // stopped with SIGTERM (checkpoint and summary, exit 130) as soon as the second has been refused.
@@ -135,7 +135,7 @@ TEST(OneWriter, TheLockOfAKilledRunIsTakenOverAndItsFirstCheckpointContinues) {
   // lands, and a periodic checkpoint there made the restart to t_end = 0.02 refuse (seen once in CI).
   Background first(kLongRun + " --set output.checkpoint_every=0 -o " + run.string(), d.path / "first.log");
   ASSERT_TRUE(wait_for_lock(run / ".capsflow.lock")) << slurp(d.path / "first.log");
-  // The checkpoint written as the run starts (issue 27), the only one until the run ends.
+  // The checkpoint written as the run starts, the only one until the run ends.
   ASSERT_TRUE(wait_for_file(run / "checkpoint.h5")) << slurp(d.path / "first.log");
   const pid_t killed = first.pid();
   first.stop(SIGKILL);  // no chance to release: the lock file still names it

@@ -134,7 +134,7 @@ TEST(ViscosityRatio, ReusedIdentityTermKeepsTheObservablesAndOutputsDoNotMoveThe
   ASSERT_EQ(s.at("scheme"), "rkc");
   const auto& id = s.at("viscosity_ratio").at("identity_term");
   const long set_ups = s.at("viscosity_ratio").at("double_layer_set_ups").get<long>();
-  // Measured 14 refreshes of 133 set-ups (42 of 111 before session 18's sampled drift): the test
+  // Measured 14 refreshes of 133 set-ups (42 of 111 without the sampled drift): the test
   // sees the reuse (a refresh on every trajectory set-up would leave only the probes).
   EXPECT_LT(id.at("refreshes").get<long>(), set_ups / 2);
   // A trajectory set-up reuses only below half the allowance at its sample (0.5 × 0.25 × 1e-4).
@@ -154,7 +154,7 @@ TEST(ViscosityRatio, ReusedIdentityTermKeepsTheObservablesAndOutputsDoNotMoveThe
       // The reused D̃[1] errs by ≤ 2.5e-5 per node, and GMRES stops at 1e-4 of the velocity
       // (fluid.tolerance): two runs whose operators differ by that may stop at different iterates,
       // and D_ij (≤ 0.08 here) may then differ by ~1e-4 × 0.08 = 8e-6. Measured 1.2e-6 (8.7e-10
-      // when both runs happened to take the same iterates, session 16); 1e-5 is the tolerance's.
+      // when both runs happened to take the same iterates); 1e-5 is the tolerance's.
       EXPECT_NEAR(std::stod(a.at(k)[r]), std::stod(b.at(k)[r]), 1e-5) << k << " row " << r;
     }
   // t = 0.5 is a step's end in both: bit for bit (the shortest round-trip print) whatever the outputs.
@@ -194,10 +194,10 @@ TEST(ViscosityRatio, ARestartFromACheckpointStaysWithTheUninterruptedRun) {
 
 // A ρ refresh after a rejected step (λ ≠ 1): the power iteration's probes are differenced against
 // the last trajectory solve, which after a rejection was the discarded state's; F at the current
-// state is evaluated first (Rkc::refresh_rho). The built-in scene at λ = 5 with ROCK4 to γ̇t = 1
+// state is evaluated first (StabilizedStepper::refresh_rho). The built-in scene at λ = 5 with ROCK4 to γ̇t = 1
 // rejects its sixth step; the refresh then measured ρ = 36 345 against 155 before it, and the run
 // ended at ρ = 36 655 after 416 evaluations; with F evaluated first it ends at ρ = 214 (the
-// calibrated bound 164) after 98 (session 27).
+// calibrated bound 164) after 98.
 TEST(ViscosityRatio, TheSpectralRadiusAfterARejectedStepIsTheStatesOwn) {
   const fs::path out = scratch("rho-after-rejection");
   ASSERT_EQ(run("--set fluid.viscosity_ratio=5 --set time.scheme=rock4 --set time.t_end=1", out), 0) << slurp(out.string() + ".log");

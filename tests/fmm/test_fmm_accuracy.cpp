@@ -202,7 +202,7 @@ TEST_P(FmmMultiDensity, OneCallEqualsSeparateCalls) {
       std::vector<double> one(3 * nt), part(multi.begin() + 3 * nt * d, multi.begin() + 3 * nt * (d + 1));
       fmm.evaluate(f.data() + SD * ns * d, one.data());
       // 1e-13: the same operations per density, only the blocking of the shared GEMMs may change
-      // the rounding (issue 6 asks for round-off agreement)
+      // the rounding (round-off agreement is asked)
       EXPECT_LE(rel_l2(part, one), 1e-13) << "density " << d << " of " << k;
       if (d == k - 1) {  // and the shared pass is still an FMM: the last density against direct
         std::vector<double> ref(3 * nt);

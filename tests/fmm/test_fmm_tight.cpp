@@ -70,7 +70,7 @@ TEST_P(FmmTight, FiveTimesTenToTheMinusEight) {
 
 TEST_P(FmmTight, OneEMinusNine) {
   const auto [dist, same] = GetParam();
-  EXPECT_LE(error_at(dist, same, 1e-9), 1e-9);  // requested tolerance (issue 6)
+  EXPECT_LE(error_at(dist, same, 1e-9), 1e-9);  // the requested tolerance
 }
 
 TEST_P(FmmTight, StressletFiveTimesTenToTheMinusEight) {

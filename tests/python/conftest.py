@@ -17,7 +17,7 @@ SOURCE_DIR = Path(__file__).resolve().parents[2]
 SMALL_RUN = ["--set", "mesh.level=2", "--set", "time.t_end=0.3", "--set", 'output.fields=["velocity","load"]']
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def capsflow_exe() -> Path:
     exe = Path(os.environ.get("CAPSFLOW_EXE", SOURCE_DIR / "build" / "bin" / "capsflow"))
     if not exe.is_file():
@@ -33,14 +33,14 @@ def run_cli(exe: Path, *args, check: bool = True) -> subprocess.CompletedProcess
     return p
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def finished_run(capsflow_exe, tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("run") / "out"
     run_cli(capsflow_exe, "run", *SMALL_RUN, "-o", out)
     return out
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def finished_study(capsflow_exe, tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("study") / "study"
     run_cli(capsflow_exe, "study", "--levels", "1,2,3", "--set", "time.t_end=0.2", "-o", out)

@@ -1,4 +1,4 @@
-// Issue 15: the membrane response of the discrete wall at large stretch, against closed forms
+// The membrane response of the discrete wall at large stretch, against closed forms
 // derived here from the strain energies (not from the law code):
 //  1. tension-stretch curves of a flat P1 patch (arbitrary 3-D orientation, triangles not aligned
 //     with the stretch) in uniaxial and equibiaxial tension, NH and Skalak, stretches up to 3;

@@ -103,7 +103,7 @@ TEST(BackendChoice, AutoPicksTheFasterSingleLayerFarFieldAtEveryMeasuredSize) {
           << s.fmm << " s; " << why;
     }
   }
-  // 24 sizes, none a tie in the session-12 data (the closest 1.4× apart): the check is not vacuous.
+  // 24 sizes, none a tie in the measured data (the closest 1.4× apart): the check is not vacuous.
   EXPECT_GE(decided, 20);
 }
 
@@ -255,7 +255,7 @@ TEST(BackendChoice, TheStokesletsDefaultLeafIsNearTheBestMeasuredAtTheBoundaryIn
   // p = 6–12 (200–1 300 at p = 4), 3 sources per target at the sizes of 20 480, 81 920 and 327 680
   // elements and sources = targets at N = 1e5. 25 %: single runs there scattered by up to ~20 %
   // (e.g. p = 10, leaf 1 000, 122 880 sources: 0.37 s between neighbours' 0.24–0.25 s); the
-  // session-2 leaf of 600 loses 1.5–3.3× and fails.
+  // former leaf of 600 loses 1.5–3.3× and fails.
   EXPECT_EQ(expect_default_leaf_near_best<fmm::Stokeslet>("perf/fmm/results/leaf_bie_stokeslet.jsonl", 0.25), 28u);  // 4 sizes × 7 orders
 }
 

@@ -1,4 +1,4 @@
-// Issue 15: the single-layer operator on strongly elongated shapes (aspect 3 and 5), where the
+// The single-layer operator on strongly elongated shapes (aspect 3 and 5), where the
 // capsule at Ca_s = 0.6 lives (inertia-ellipsoid axis ratio ~3.2 in the shear plane), against
 // closed forms that do not depend on capsflow:
 //  * translation: on an ellipsoid x^2/a^2 + y^2/b^2 + z^2/c^2 = 1 the density

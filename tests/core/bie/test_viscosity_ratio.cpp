@@ -177,7 +177,7 @@ TEST(ViscosityRatioSpheroid, RigidLimitRotatesAsJeffery) {
     }
 }
 
-// Issue 24's robustness range λ = 0.01 … 100 on a non-spherical shape: an a/b = 2 prolate spheroid
+// The robustness range λ = 0.01 … 100 on a non-spherical shape: an a/b = 2 prolate spheroid
 // tilted 0.5 rad in the flow plane, simple shear, cold starts to 1e-8. Without deflation the
 // rigid-motion eigenvalue 1 + κ = 2/(1 + λ) (0.02 at λ = 100) and the volume-mode eigenvalue
 // 2λ/(1 + λ) (0.02 at λ = 0.01) would spread the spectrum by 50× (§4.8.2); deflated it stays

@@ -169,8 +169,8 @@ TEST(MeshIO, HugeCountsAreAClearErrorNotBadAlloc) {
   EXPECT_NE(over.find("integers in [0, 2147483647]"), std::string::npos) << over;
 }
 
-// Only regular files are read: a folder, a FIFO or a device would block or read for ever (issue 27:
-// /dev/zero named through a .off link grew memory by 5 GB in 7 s).
+// Only regular files are read: a folder, a FIFO or a device would block or read for ever
+// (/dev/zero named through a .off link grew memory by 5 GB in 7 s).
 TEST(MeshIO, OnlyRegularFilesOfBoundedSizeAreRead) {
   TempDir d;
   const fs::path folder = d.path / "looks_like.off";

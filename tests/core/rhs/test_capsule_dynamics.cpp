@@ -8,7 +8,7 @@
 
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
 #include "capsflow/core/stepping/heun.hpp"
-#include "capsflow/core/stepping/rkc.hpp"
+#include "capsflow/core/stepping/rkc2.hpp"
 #include "capsflow/shell/wall.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/geometry/shape_diagnostics.hpp"
@@ -247,7 +247,7 @@ TEST(Dynamics, ViscosityRatioOneKeepsTheSingleLayerPath) {
 }
 
 // fluid.far_rule reaches the single layer and the double layer: "gauss_points" on flat facets is
-// the far field before issue 23 (3 sources per element; "auto": one per edge, 3/2 per element on a
+// the former far field (3 sources per element; "auto": one per edge, 3/2 per element on a
 // closed mesh), and the two far fields give velocities that agree to the quadrature's accuracy.
 TEST(Dynamics, TheFarRuleKeyReachesBothOperators) {
   const Scene a = scene_with({"mesh.level=3", "fluid.viscosity_ratio=5"});
@@ -327,14 +327,14 @@ TEST(Dynamics, RkcStagePredictorSavesNewtonStepsAndChangesResultsOnlyWithinTheSo
   auto run = [&](bool predict) {
     CapsuleDynamics dyn(s, ref, 1);
     NewtonByStage f(dyn);
-    Rkc::Options o;
+    Rkc2::Options o;
     o.tolerance = 1e-6;  // the default: long steps of several stages
     o.predict_stages = predict;
-    Rkc rkc(o);
+    Rkc2 rkc(o);
     Run r;
     r.x = ref.vertices;
     for (double t = 0; t < 0.3 - 1e-12;) {
-      const Rkc::StepReport rep = rkc.step(f, r.x, std::min(rkc.proposed_step(f, r.x), 0.3 - t));
+      const Rkc2::StepReport rep = rkc.step(f, r.x, std::min(rkc.proposed_step(f, r.x), 0.3 - t));
       if (rep.accepted) t += rep.tau, ++r.steps;
     }
     r.evaluations = dyn.counters().evaluations;

@@ -66,12 +66,11 @@ TEST(Scene, ResolvedTomlRoundTrips) {
   EXPECT_DOUBLE_EQ(b.flow.gradient(0, 1), 1.0);
 }
 
-// time.tolerance: "auto" by default (starting at the loose tolerance, docs/time-integration.md
-// §5.8), a number turns it off, and either survives the resolved TOML of a checkpoint.
+// time.tolerance: "auto" by default (the time plan chooses it, stepping/time_plan.hpp), a number
+// turns it off, and either survives the resolved TOML of a checkpoint.
 TEST(Scene, TimeToleranceIsAutoOrANumber) {
   const Scene d = parse_scene("", "d");
   EXPECT_TRUE(d.time.tolerance_auto);
-  EXPECT_EQ(d.time.tolerance, 1e-5);  // what RKC starts with (stepping/auto_tolerance.hpp)
   EXPECT_NE(to_toml(d).find("tolerance = \"auto\""), std::string::npos);
   EXPECT_TRUE(parse_scene(to_toml(d), "resolved").time.tolerance_auto);
   const Scene n = parse_scene("", "d", {"time.tolerance=1e-6"});
@@ -150,7 +149,7 @@ TEST(SceneErrors, VerifyEveryAndFmmOrderAreCheckedAndNamed) {
             std::string::npos);
 }
 
-// Issue 27: every out-of-range message names what the user gave and the accepted range, in one
+// Every out-of-range message names what the user gave and the accepted range, in one
 // form ("VALUE is out of range: must be RANGE (why)"); "verify_every out of range" said neither.
 TEST(SceneErrors, OutOfRangeNamesTheValueAndTheRange) {
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -180,7 +179,7 @@ TEST(SceneErrors, OutOfRangeNamesTheValueAndTheRange) {
   EXPECT_EQ(set.rfind("--set time.dt_safety: 0.9 is out of range: must be in [0.001, 0.8] (0.8: the largest", 0), 0u) << set;
 }
 
-// fluid.viscosity_ratio (issue 24): λ > 0 and finite; the message names the value and the range.
+// fluid.viscosity_ratio: λ > 0 and finite; the message names the value and the range.
 TEST(SceneErrors, ViscosityRatioOutsideItsRangeIsRefused) {
   for (const char* v : {"0", "-1", "1e-7", "2e6"}) {
     const std::string e = error_of(std::string("[fluid]\nviscosity_ratio = ") + v + "\n");
@@ -254,7 +253,7 @@ TEST(SceneFiles, MissingFolderUnreadableAndBinaryFilesAreTold) {
   }
 }
 
-// A FIFO given as a scene blocked in open() for ever (issue 27); a device read for ever.
+// A FIFO given as a scene blocks in open() for ever; a device read for ever.
 TEST(SceneFiles, AFifoOrADeviceIsRefusedWithoutBlocking) {
   SceneDir d;
   const std::string fifo = (d.path / "scene.toml").string();
@@ -285,7 +284,7 @@ TEST(Scene, CapillaryNoteWhenCaSFollowsFromCaV) {
   EXPECT_NE(capillary_note(parse_scene("", "empty")), "");  // neither given: the default ca_v applies
 }
 
-// Issue 27: a 5 MB value was echoed whole in its one-line error. Values, keys and --set
+// A 5 MB value was echoed whole in its one-line error. Values, keys and --set
 // assignments are now cut to their first bytes, an ellipsis and their length.
 TEST(SceneErrors, LongValuesAreAbbreviated) {
   const std::string huge(5 << 20, 'x');
@@ -304,7 +303,7 @@ TEST(SceneErrors, LongValuesAreAbbreviated) {
   EXPECT_NE(cases[0].find("'xxxx"), std::string::npos) << cases[0].substr(0, 400);  // the start is kept
 }
 
-// Issue 27: flow.ca_s = 1e-300 was accepted and the run ended with "mass-matrix CG stopped at its
+// Flow.ca_s = 1e-300 was accepted and the run ended with "mass-matrix CG stopped at its
 // iteration cap (... relative residual -nan)". Ca_s, given or derived from ca_v and the thickness,
 // must lie in [1e-6, 1e6] (scene_keys.cpp: capillary_range, with the reason).
 TEST(SceneErrors, CapillaryNumberOutsideAMillionEitherWayIsRefused) {
@@ -324,7 +323,7 @@ TEST(SceneErrors, CapillaryNumberOutsideAMillionEitherWayIsRefused) {
   EXPECT_EQ(parse_scene("", "d", {"flow.ca_s=1e6"}).flow.ca_s, 1e6);
 }
 
-// Issue 27: fluid.fmm_order was silently ignored when the far field is summed directly. The note
+// Fluid.fmm_order was silently ignored when the far field is summed directly. The note
 // says so whenever an order is forced and the back end used is the direct sum (asked for, or
 // chosen by "auto" for a small mesh); it is a warning, not an error (docs §2.6).
 TEST(Scene, AForcedFmmOrderUnusedByTheDirectSumIsNoted) {
@@ -338,7 +337,7 @@ TEST(Scene, AForcedFmmOrderUnusedByTheDirectSumIsNoted) {
   EXPECT_EQ(unused_fmm_order_note(parse_scene("", "d"), FarFieldBackend::Direct), "");  // nothing forced
 }
 
-// Issue 27: time.dt = 1e-300 or output.every = 1e-300 was accepted and would have needed ~1e300
+// Time.dt = 1e-300 or output.every = 1e-300 was accepted and would have needed ~1e300
 // steps or outputs (ETA "?"). Counts to time.t_end are bounded (1e9 steps, 1e7 outputs or
 // checkpoints: scene_rules.hpp) and the message gives the count and the smallest interval allowed.
 TEST(SceneErrors, StepOutputAndCheckpointCountsAreBounded) {
@@ -358,7 +357,7 @@ TEST(SceneErrors, StepOutputAndCheckpointCountsAreBounded) {
   EXPECT_NO_THROW(parse_scene("", "d", {"time.t_end=1e5", "output.every=0.01", "output.checkpoint_every=0"}));
 }
 
-// Issue 27: output.fields with 200 000 duplicates was stored verbatim (a 4 MB summary.json).
+// Output.fields with 200 000 duplicates was stored verbatim (a 4 MB summary.json).
 // Lists of choices fold a repeated name into its first place (not refused: a restart must read
 // any list a checkpoint stored).
 TEST(Scene, RepeatedNamesInAListCountOnce) {
@@ -371,7 +370,7 @@ TEST(Scene, RepeatedNamesInAListCountOnce) {
   EXPECT_EQ(t.time.stop_on, std::vector<HealthCondition>{HealthCondition::ElementQuality});
 }
 
-// Issue 27: time.dt_safety = 1e-300 was accepted: Heun's automatic step would have been 1e-300 of
+// Time.dt_safety = 1e-300 was accepted: Heun's automatic step would have been 1e-300 of
 // the stable one, a step count no bound on time.dt can see. 1e-3 (700× the default's steps) is the
 // smallest fraction accepted.
 TEST(SceneErrors, AVanishingSafetyFactorIsRefused) {
@@ -381,7 +380,7 @@ TEST(SceneErrors, AVanishingSafetyFactorIsRefused) {
   EXPECT_EQ(parse_scene("", "d", {"time.dt_safety=1e-3"}).time.dt_safety, 1e-3);  // the end itself
 }
 
-// Issue 27 (5 MB values): a mesh.file longer than a path can be is refused when the scene is read,
+// (5 MB values) a mesh.file longer than a path can be is refused when the scene is read,
 // abbreviated, before the mesh reader would echo it.
 TEST(SceneErrors, AMeshPathLongerThanAPathCanBeIsRefused) {
   const std::string e = error_of("", {"mesh.file=" + std::string(5 << 20, 'm') + ".off"});

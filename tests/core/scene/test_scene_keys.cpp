@@ -143,7 +143,7 @@ checkpoint_every = 0
   EXPECT_EQ(to_toml(parse_scene(stored, "checkpoint")), expected);
 }
 
-// Issue 27: docs §2.9 still listed `time.stop_on` as "planned, not implemented" long after it was.
+// Docs §2.9 still listed `time.stop_on` as "planned, not implemented" long after it was.
 // When §2.9 lists keys as missing, none of them may be a key of the table.
 TEST(SceneKeys, DocsCallNoExistingKeyMissing) {
   const std::string docs = read_docs();

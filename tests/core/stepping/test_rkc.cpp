@@ -10,14 +10,14 @@
 #include <stdexcept>
 #include <vector>
 
-#include "capsflow/core/stepping/rkc.hpp"
+#include "capsflow/core/stepping/rkc2.hpp"
 #include "capsflow/core/stepping/rkc_coefficients.hpp"
 
 using namespace capsflow;
 
 namespace {
 
-// R(z): one RKC step of y' = λy from y = 1 with τλ = z, by the same stage recurrence as Rkc::step.
+// R(z): one RKC step of y' = λy from y = 1 with τλ = z, by the same stage recurrence as Rkc2::stages.
 double amplification(const RkcCoefficients& k, double z) {
   double y0 = 1, ym2 = 1, ym1 = 1 + k.mu_t[1] * z * y0;
   for (int j = 2; j <= k.stages; ++j) {
@@ -75,7 +75,7 @@ TEST(RkcCoefficients, StabilityIntervalIsMeasuredWhereTheClosedFormSaysAndGrowsL
   EXPECT_LT(RkcCoefficients::stability_interval(s - 1), 1000);  // the fewest stages that suffice
 }
 
-TEST(Rkc, SecondOrderOnASmoothNonlinearProblem) {
+TEST(Rkc2, SecondOrderOnASmoothNonlinearProblem) {
   // y' = −y² per component, y(t) = y0/(1 + y0 t): fixed steps, order from three step sizes.
   FunctionRhs f([](const Points& y, Points& v) { v = -y.cwiseProduct(y); });
   Points y0(2, 3);
@@ -83,9 +83,9 @@ TEST(Rkc, SecondOrderOnASmoothNonlinearProblem) {
   const double T = 1;
   std::vector<double> errors;
   for (int n : {20, 40, 80}) {
-    Rkc::Options o;
+    Rkc2::Options o;
     o.error_control = false;
-    Rkc rkc(o);
+    Rkc2 rkc(o);
     Points y = y0;
     for (int i = 0; i < n; ++i) ASSERT_TRUE(rkc.step(f, y, T / n).accepted);
     const Points exact = y0.array() / (1 + y0.array() * T);
@@ -97,7 +97,7 @@ TEST(Rkc, SecondOrderOnASmoothNonlinearProblem) {
   }
 }
 
-TEST(Rkc, StiffLinearSystemMeetsTheToleranceAndCostGrowsLikeSqrtRho) {
+TEST(Rkc2, StiffLinearSystemMeetsTheToleranceAndCostGrowsLikeSqrtRho) {
   // 64 eigenvalues log-spaced over [1, 1e4] (×4 and ×16 for the scaled runs), exact solution
   // y = exp(−λ t) y0; error-controlled to T = 1.
   const int n = 64;
@@ -110,15 +110,15 @@ TEST(Rkc, StiffLinearSystemMeetsTheToleranceAndCostGrowsLikeSqrtRho) {
     lambda[0] = 1;  // the slow mode sets the accuracy step in every run
     FunctionRhs f = diagonal_rhs(lambda);
     Points y0 = Points::Ones(n, 3);
-    Rkc::Options o;
+    Rkc2::Options o;
     o.tolerance = tol;
-    Rkc rkc(o);
+    Rkc2 rkc(o);
     Points y = y0;
     double t = 0;
     long count = 0;
     while (t < T - 1e-14) {
       const double tau = std::min(rkc.proposed_step(f, y), T - t);
-      const Rkc::StepReport r = rkc.step(f, y, tau);
+      const Rkc2::StepReport r = rkc.step(f, y, tau);
       count += r.evaluations;
       if (r.accepted) t += r.tau;
     }
@@ -144,23 +144,23 @@ TEST(Rkc, StiffLinearSystemMeetsTheToleranceAndCostGrowsLikeSqrtRho) {
   EXPECT_LT(p16, 0.6) << evals[0] << " " << evals[2];
 }
 
-// Dense output (Rkc::interpolate): the cubic Hermite interpolant of the last accepted step. It
+// Dense output (StabilizedStepper::interpolate): the cubic Hermite interpolant of the last accepted step. It
 // reproduces both ends exactly, and inside the step its error is the step's own (local error
 // O(τ³), here on y' = −y² with y(t) = y0/(1 + y0 t)), not worse: halving τ divides it by 2³.
-TEST(Rkc, DenseOutputMatchesTheStepEndsAndIsThirdOrderInside) {
+TEST(Rkc2, DenseOutputMatchesTheStepEndsAndIsThirdOrderInside) {
   FunctionRhs f([](const Points& y, Points& v) { v = -y.cwiseProduct(y); });
   Points y0(2, 3);
   y0 << 1.0, 0.5, 2.0, 0.25, 1.5, 0.75;
-  Rkc::Options o;
+  Rkc2::Options o;
   o.tolerance = 1;  // every step accepted: the step sizes below are the test's
   {
-    Rkc unstepped(o);
+    Rkc2 unstepped(o);
     Points z;
     EXPECT_THROW(unstepped.interpolate(0.5, z), std::logic_error);  // nothing to interpolate in yet
   }
   std::vector<double> errors;
   for (double tau : {0.1, 0.05, 0.025}) {
-    Rkc rkc(o);
+    Rkc2 rkc(o);
     EXPECT_TRUE(rkc.interpolates());
     Points y = y0, z;
     ASSERT_TRUE(rkc.step(f, y, tau).accepted);
@@ -182,27 +182,27 @@ TEST(Rkc, DenseOutputMatchesTheStepEndsAndIsThirdOrderInside) {
     // O(τ⁴) terms at τ = 0.1 (a second-order interpolant would give 2 and fail).
     EXPECT_GE(order, 2.8) << "errors " << errors[i] << " -> " << errors[i + 1];
   }
-  Rkc::Options fixed;
+  Rkc2::Options fixed;
   fixed.error_control = false;
-  EXPECT_FALSE(Rkc(fixed).interpolates());  // a fixed time.dt lands on output times instead
+  EXPECT_FALSE(Rkc2(fixed).interpolates());  // a fixed time.dt lands on output times instead
 }
 
-TEST(Rkc, RejectsATooLargeStepAndKeepsTheState) {
+TEST(Rkc2, RejectsATooLargeStepAndKeepsTheState) {
   const Eigen::VectorXd lambda = Eigen::VectorXd::Constant(4, 1.0);
   FunctionRhs f = diagonal_rhs(lambda);
-  Rkc::Options o;
+  Rkc2::Options o;
   o.tolerance = 1e-8;
-  Rkc rkc(o);
+  Rkc2 rkc(o);
   Points y = Points::Ones(4, 3);
   const Points before = y;
-  const Rkc::StepReport r = rkc.step(f, y, 0.5);  // local error ~ τ³/6 = 2e-2 ≫ 1e-8
+  const Rkc2::StepReport r = rkc.step(f, y, 0.5);  // local error ~ τ³/6 = 2e-2 ≫ 1e-8
   EXPECT_FALSE(r.accepted);
   EXPECT_GT(r.error, 1.0);
   EXPECT_EQ(y, before);  // exactly unchanged
   EXPECT_LT(rkc.proposed_step(f, y), 0.5);
 }
 
-// The stage predictor's weights (rkc.hpp, stage_weights): a state that is a combination of the
+// The stage predictor's weights (stabilized_stepper.hpp, stage_weights): a state that is a combination of the
 // given ones gets that combination back; a state given twice does not make the fit singular.
 TEST(StageWeights, RecoverAnExactCombinationAndIgnoreARepeatedState) {
   const int n = 50;
@@ -229,11 +229,11 @@ TEST(StageWeights, RecoverAnExactCombinationAndIgnoreARepeatedState) {
   EXPECT_LT(std::abs(w[0]) + std::abs(w[1]), 1.0);
 }
 
-// What Rkc tells the right-hand side (EvaluationHint::predictor), replayed on a stiff linear
+// What Rkc2 tells the right-hand side (EvaluationHint::predictor), replayed on a stiff linear
 // system: every slot a stage names holds a state kept earlier in the same step, the weights sum
 // to 1, and the combination is at least as close to the stage as the last evaluated state (the
 // old warm start) — closer on average.
-TEST(Rkc, TellsEachStageWhichEarlierStagesItCombines) {
+TEST(Rkc2, TellsEachStageWhichEarlierStagesItCombines) {
   Eigen::VectorXd lambda(30);
   for (int i = 0; i < 30; ++i) lambda[i] = std::pow(10.0, 4.0 * i / 29.0);  // stiff: 1 … 1e4
   struct Replay final : RightHandSide {
@@ -269,9 +269,9 @@ TEST(Rkc, TellsEachStageWhichEarlierStagesItCombines) {
     double sum_predicted = 0, sum_old = 0;
     int predicted_stages = 0;
   } f(lambda);
-  Rkc::Options o;
+  Rkc2::Options o;
   o.error_control = false;  // τ = 0.01, τρ ≈ 120: 14 stages a step
-  Rkc rkc(o);
+  Rkc2 rkc(o);
   Points y = Points::Ones(30, 3);
   for (int k = 0; k < 5; ++k) ASSERT_TRUE(rkc.step(f, y, 0.01).accepted);
   ASSERT_GT(f.predicted_stages, 30);

@@ -10,7 +10,7 @@
 
 #include <Eigen/Dense>
 
-#include "capsflow/core/stepping/rkc.hpp"
+#include "capsflow/core/stepping/rock4.hpp"
 #include "capsflow/core/stepping/rock4_coefficients.hpp"
 
 using namespace capsflow;
@@ -130,14 +130,13 @@ TEST(Rock4, FourthOrderOnANonlinearProblemWithStiffModes) {
   std::vector<double> errors;
   std::vector<int> stages;
   for (int n : {20, 40, 80}) {
-    Rkc::Options o;
-    o.method = Rkc::Method::Rock4;
+    Rock4::Options o;
     o.error_control = false;
-    Rkc rock4(o);
+    Rock4 rock4(o);
     Points y = y0;
     int smax = 0;
     for (int i = 0; i < n; ++i) {
-      const Rkc::StepReport r = rock4.step(f, y, T / n);
+      const Rock4::StepReport r = rock4.step(f, y, T / n);
       ASSERT_TRUE(r.accepted);
       smax = std::max(smax, r.stages);
     }
@@ -160,7 +159,7 @@ TEST(Rock4, FourthOrderOnANonlinearProblemWithStiffModes) {
 }
 
 TEST(Rock4, StiffLinearSystemMeetsTheTolerance) {
-  // As Rkc's test: 64 eigenvalues log-spaced over [1, 1e4], exact solution exp(−λt), error
+  // As RKC2's test: 64 eigenvalues log-spaced over [1, 1e4], exact solution exp(−λt), error
   // control to T = 1. The estimate is that of the embedded third-order method, so the fourth-order
   // solution's global error stays at or below the tolerance.
   const int n = 64;
@@ -172,16 +171,15 @@ TEST(Rock4, StiffLinearSystemMeetsTheTolerance) {
       v.resize(y.rows(), 3);
       for (Eigen::Index i = 0; i < y.rows(); ++i) v.row(i) = -lambda[i] * y.row(i);
     });
-    Rkc::Options o;
-    o.method = Rkc::Method::Rock4;
+    Rock4::Options o;
     o.tolerance = tol;
-    Rkc rock4(o);
+    Rock4 rock4(o);
     Points y = Points::Ones(n, 3);
     double t = 0;
     long evaluations = 0, steps = 0;
     while (t < T - 1e-14) {
       const double tau = std::min(rock4.proposed_step(f, y), T - t);
-      const Rkc::StepReport r = rock4.step(f, y, tau);
+      const Rock4::StepReport r = rock4.step(f, y, tau);
       evaluations += r.evaluations;
       if (r.accepted) t += r.tau, ++steps;
       ASSERT_LT(steps, 100000);
@@ -194,16 +192,15 @@ TEST(Rock4, StiffLinearSystemMeetsTheTolerance) {
 }
 
 TEST(Rock4, AFixedStepIsNeverShortenedByTheFirstStepCap) {
-  // ROCK4's first error-controlled step is capped at 20 stages (Rkc::step); a fixed step (no error
+  // ROCK4's first error-controlled step is capped at 20 stages (Rock4::first_step_interval); a fixed step (no error
   // control) is the user's and must be taken whole: here τρ ≈ 1200, far above ℓ_20 ≈ 139.
   FunctionRhs f([](const Points& y, Points& v) { v = -1e4 * y; });
-  Rkc::Options o;
-  o.method = Rkc::Method::Rock4;
+  Rock4::Options o;
   o.error_control = false;
-  Rkc rock4(o);
+  Rock4 rock4(o);
   Points y = Points::Ones(4, 3);
   for (int i = 0; i < 3; ++i) {
-    const Rkc::StepReport r = rock4.step(f, y, 0.1);
+    const Rock4::StepReport r = rock4.step(f, y, 0.1);
     ASSERT_TRUE(r.accepted);
     EXPECT_EQ(r.tau, 0.1) << "step " << i;  // exactly the step asked for
     EXPECT_GT(r.stages, 20) << "step " << i;

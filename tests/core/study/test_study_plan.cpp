@@ -102,7 +102,7 @@ TEST(StudyPlan, TwoSpellingsOfOneValueAreRefusedNamingBoth) {
   EXPECT_EQ(make_study_plan("", {}, {1}, {parse_vary("flow.ca_s=0.1,0.1000001")}).families.size(), 2u);
 }
 
-// Issue 27: `study --levels -1,0` and `--vary foo.bar=1,2` said "--set mesh.level: ..." and
+// `study --levels -1,0` and `--vary foo.bar=1,2` said "--set mesh.level: ..." and
 // "--set foo.bar: ...", blaming a --set the user never gave. Each error now names the option.
 TEST(StudyPlan, SceneErrorsNameTheOptionThatGaveTheKey) {
   const std::string levels = error([] { make_study_plan("", {}, parse_levels("-1,0"), {}); });

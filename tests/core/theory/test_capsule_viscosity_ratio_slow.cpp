@@ -1,7 +1,6 @@
 // capsflow with a viscosity ratio λ ≠ 1 against the small-deformation theory (docs/small-deformation.md
 // §5): the tensionless-drop velocity at t = 0 and the transient D(t), whose time scale grows
-// linearly with λ while its steady value does not depend on λ. Skipped, with a message, until the
-// scene accepts `fluid.viscosity_ratio` (issue 24). A few CPU minutes.
+// linearly with λ while its steady value does not depend on λ. A few CPU minutes.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,21 +11,8 @@
 
 using namespace capsflow;
 
-namespace {
-bool scene_has_viscosity_ratio() {
-  try {
-    parse_scene(default_scene_toml(), "probe", {"fluid.viscosity_ratio=2"});
-    return true;
-  } catch (const SceneError&) {
-    return false;
-  }
-}
-#define SKIP_WITHOUT_VISCOSITY_RATIO()                                                   \
-  if (!scene_has_viscosity_ratio()) GTEST_SKIP() << "fluid.viscosity_ratio is not a scene key yet"
-}  // namespace
 
 TEST(CapsuleViscosityRatioSlow, UnloadedSphereMovesLikeATensionlessDrop) {
-  SKIP_WITHOUT_VISCOSITY_RATIO();
   // At t = 0 the membrane carries no load: the exact surface velocity is Ω×x + 5/(2λ+3) E x, for
   // any λ (docs/small-deformation.md §5.2), a test of the second-kind solve alone.
   for (const char* lambda : {"0.2", "5"})
@@ -56,7 +42,6 @@ TEST(CapsuleViscosityRatioSlow, UnloadedSphereMovesLikeATensionlessDrop) {
 }
 
 TEST(CapsuleViscosityRatioSlow, TransientFollowsTheTheory) {
-  SKIP_WITHOUT_VISCOSITY_RATIO();
   // NH membrane sphere, level 3, Ca_s = 0.005; D at t/τ = 0.5, 1, 2 with τ the theory's
   // (2.65 Ca at λ = 0.2, 11.0 Ca at λ = 5).
   struct Case {

@@ -29,24 +29,24 @@ struct CalibrationRow {
 //   worst:  1.14e-3  1.99e-3  4.4e-5   2.3e-6   7.7e-7   5.9e-8   1.1e-8   3.4e-9   7.3e-10  2.8e-10  7.5e-11
 // (odd p = 5 is worse than p = 4). Before the factored pseudo-inverses, p >= 10 stalled at
 // 1.5e-8–3.7e-8 (perf/fmm/results/order_sweep_before.jsonl).
-// leaf_size: re-measured in session 12 (perf/fmm/leaf_bie.sh, results/leaf_bie_stokeslet.jsonl,
+// leaf_size: measured (perf/fmm/leaf_bie.sh, results/leaf_bie_stokeslet.jsonl,
 // quiet machine, 2 threads, medians of 5): random points on the sphere at the boundary integral's
 // sizes (3 sources per target: 30 720 × 10 242, 122 880 × 40 962, 491 520 × 163 842) and sources =
 // targets at N = 1e5, leaves 200–1 600; the leaf whose worst loss against the best leaf of each case
 // is smallest: 400 at p = 4 (1.16), 1 000 at p = 6 (1.08), 1 300 at p = 7–12 (1.04–1.22; p = 11, 13,
-// 14 not measured, same). The session-2 leaves (200–600, tuned when M2L was slower) cost 1.5–3.3×
+// 14 not measured, same). Leaves of 200–600 (right when M2L was slower) cost 1.5–3.3×
 // at these sizes: at 600 the trees are one level deeper (e.g. 122 880 × 40 962 at p = 9: 0.37 s
 // against 0.20 s). crossover: N at which setup + one evaluation beats direct_sum (sphere,
-// sources = targets, 2 threads, quiet machine), re-measured in session 13 with these leaves
+// sources = targets, 2 threads, quiet machine), measured with these leaves
 // (fmm_bench --dist sphere --n N --reps 3, N = 4 000–128 000, log-log between the last two sizes
-// where the order changes; perf/fmm/results/crossover-s13/): 6 203 at p = 6, 8 165 at p = 9,
+// where the order changes; perf/fmm/results/crossover-leaf1300/): 6 203 at p = 6, 8 165 at p = 9,
 // 12 604 at p = 10, 21 107 at p = 11, 21 304 at p = 12, 26 234 at p = 13, 26 005 at p = 14, rounded
 // up (p = 14 takes p = 13's). From p = 11 on a tree level added near N = 16 000 costs more than it
 // saves (the FMM is 1.4–2.4× the direct sum there, 1.0–1.1× at 8 000), hence the jump. p = 7, 8 are
 // INTERPOLATED geometrically between p = 6 and 9. p = 4 (--tol 2e-3, N = 500–32 000): the FMM is
 // 0.6–0.9× the direct sum from N = 1 000 on and equal at 500, where both take under a millisecond
-// (the clock's resolution): 1 000 (session 2 had 4 000). The session-2 column (leaves 200–600) had
-// 11 000 at p = 9 and extrapolated 15 000 at p = 11.
+// (the clock's resolution): 1 000. With leaves of 200–600 the crossover was 11 000 at p = 9 and an
+// extrapolated 15 000 at p = 11.
 // Sources != targets use the geometric mean sqrt(n_src·n_trg).
 inline constexpr CalibrationRow kCalibration[] = {
     {2e-3, 4, 400, 1000},

@@ -13,7 +13,7 @@
 //   run: backend, backend_reason, fmm_order_warning ("" or the note), stable_dt {limit, membrane,
 //        bending, flow, limited_by}, spectral_radius {value, method ("power_iteration" |
 //        "analytic"), analytic, evaluations, converged, margin}, seconds_per_evaluation (NaN when
-//        not probed), threads, scheme, scheme_auto, time_step {kind, t_end and — heun: dt, auto,
+//        not probed), threads, scheme, time_plan (stepping/time_plan.hpp), time_step {kind, t_end and — heun: dt, auto,
 //        dt_safety, steps, evaluations (2 per step + output_evaluations + rho_refreshes ×
 //        evaluations_per_refresh, _assumed when not measured); fixed (RKC): dt, stages, steps,
 //        evaluations; error_controlled (RKC): tolerance, at [{dt, stages, evaluations}]},

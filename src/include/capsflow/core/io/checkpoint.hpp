@@ -28,7 +28,10 @@
 
 namespace capsflow::io {
 
-inline constexpr std::int64_t kCheckpointFormatVersion = 1;
+// The checkpoint format this build writes and reads; any other is refused (no compatibility code).
+// 2: the run's time plan under extra["time_plan"], the stabilised stepper's state under
+// extra["stabilized_step"], every run-state entry required.
+inline constexpr std::int64_t kCheckpointFormatVersion = 2;
 inline constexpr const char* kCheckpointFile = "checkpoint.h5";
 
 struct CheckpointState {

@@ -25,7 +25,7 @@ class SceneError : public std::runtime_error {
 
 // The sections of a scene. Every key's default, accepted values and doc line are declared once, in
 // the key table (src/scene/scene_keys.cpp); a default-constructed section holds the table's
-// defaults, a default-constructed Scene also the derived values (Ca_s, the flow gradient, the scheme).
+// defaults, a default-constructed Scene also the derived values (Ca_s, the flow gradient).
 struct MeshSpec {
   MeshSpec();
   BaseSolid base;
@@ -58,13 +58,10 @@ struct FlowSpec {
 
 struct TimeSpec {
   TimeSpec();
-  TimeScheme scheme;             // never Auto after parsing: RKC2 until "auto" chooses for the mesh
-  bool scheme_auto = true;       // the scheme is chosen by "auto"
-  bool scheme_for_mesh = false;  // "auto" has chosen for the mesh (stepping/auto_scheme.hpp): written as the
-                                 // scheme from then on (a run's checkpoints), as "auto" before
-  double tolerance;              // RKC local error per step (RMS over nodes, units of ℓ; docs/time-integration.md §5.7);
-                                 // under "auto" the one the run starts with
-  bool tolerance_auto = true;    // "auto": loose, rewound to t = 0 at a tight one once the wall creases (§5.8)
+  TimeScheme scheme;             // as written; "auto" is resolved with the mesh (stepping/time_plan.hpp)
+  double tolerance;              // local error per step (RMS over nodes, units of ℓ; docs/time-integration.md §5.7);
+                                 // under "auto" the plan chooses (stepping/time_plan.hpp)
+  bool tolerance_auto = true;
   bool dt_auto = true;           // RKC: error-controlled step; Heun: the stability-limited step
   double dt = 0;                 // fixed step (when !dt_auto)
   double dt_safety;              // fraction of the (calibrated) stability limit used by dt = "auto"

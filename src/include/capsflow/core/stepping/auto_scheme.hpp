@@ -2,8 +2,8 @@
 // time.scheme = "auto" with dt = "auto" (docs/time-integration.md §5.12): ROCK4 where the wall is
 // soft for its mesh, RKC2 where it is stiff. The stiffness is the analytic spectral radius at the
 // reference shape (stability.hpp: 2 over the calibrated Heun limit), in units of the flow rate:
-// known before any evaluation, the same for `capsflow info` and the run. The run decides once and
-// its checkpoints keep the choice, so a continued run keeps its scheme.
+// known before any evaluation, the same for `capsflow info` and the run. The time plan applies it
+// (time_plan.hpp) and checkpoints keep the plan, so a continued run keeps its scheme.
 //
 // Why two schemes: where ρ is small a step spans few stages and accuracy sets the step, so the
 // fourth order pays; on walls that crease at the mesh scale ROCK4 is the only one of the two that
@@ -16,25 +16,14 @@
 // membrane, 20 480), 1.23 at 1 310 (a/b = 4, 5 120), 1.64 at 1 847 (Fig. 4, 20 480), 1.97 at
 // 3 695 (81 920), 2.57 at 9 233 (NH membrane at Ca_s = 0.01, 5 120). The threshold lies between
 // 616, where ROCK4 must run, and 923, where RKC2 is the cheaper: calibrated, not derived.
-#include <string>
-
 #include "capsflow/core/stepping/time_scheme.hpp"
 
 namespace capsflow {
 
 inline constexpr double kAutoSchemeRock4BelowStiffness = 800.0;
 
-struct Scene;
-
 inline TimeScheme auto_scheme(double analytic_spectral_radius) {
   return analytic_spectral_radius < kAutoSchemeRock4BelowStiffness ? TimeScheme::Rock4 : TimeScheme::Rkc;
 }
-
-// Why: "the analytic spectral radius 461 is below 800" (the run's log and `capsflow info`).
-std::string auto_scheme_reason(double analytic_spectral_radius);
-
-// Where "auto" chose the scheme and the step is error-controlled: the scheme for this mesh, whose
-// shortest edge is min_edge. A fixed time.dt keeps RKC2, which the scene rules chose.
-void resolve_auto_scheme(Scene& scene, double min_edge);
 
 }  // namespace capsflow

@@ -1,9 +1,9 @@
 #pragma once
-// The time integrators a scene can choose (time.scheme): damped RKC2 or the fourth-order ROCK4,
-// both stabilised explicit steps with error control (stepping/rkc.hpp), or Heun at the
-// stability-limited step (stepping/heun.hpp). "auto" (the default) is resolved once the mesh is
-// known: ROCK4 where the wall is soft for its mesh, RKC2 where it is stiff (stepping/auto_scheme.hpp,
-// docs/time-integration.md §5.12).
+// The time integrators a scene can choose (time.scheme): damped RKC2 (stepping/rkc2.hpp) or the
+// fourth-order ROCK4 (stepping/rock4.hpp), both stabilised explicit steps with error control, or
+// Heun at the stability-limited step (stepping/heun.hpp). "auto" (the default) is resolved with the
+// mesh by the time plan: ROCK4 where the wall is soft for its mesh, RKC2 where it is stiff
+// (stepping/time_plan.hpp, docs/time-integration.md §5.12).
 #include "capsflow/core/named_enum.hpp"
 
 namespace capsflow {
@@ -14,6 +14,7 @@ inline constexpr NameTable<TimeScheme, 4> kTimeSchemeNames{
 constexpr const auto& name_table(TimeScheme) { return kTimeSchemeNames; }
 
 // RKC2 and ROCK4: stages from the spectral radius, a tolerance-controlled step, dense output.
-constexpr bool is_stabilized(TimeScheme s) { return s == TimeScheme::Rkc || s == TimeScheme::Rock4; }
+// "auto" always chooses one of the two.
+constexpr bool is_stabilized(TimeScheme s) { return s != TimeScheme::Heun; }
 
 }  // namespace capsflow

@@ -5,7 +5,7 @@
 // was last evaluated at the current state.
 //
 // A new scheme: one file implementing TimeStepper, its enum value and name in time_scheme.hpp,
-// and its line in make_time_stepper (time_stepper.cpp).
+// its line in make_time_stepper (time_stepper.cpp) and, if "auto" may choose it, in the time plan.
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -17,6 +17,7 @@
 namespace capsflow {
 
 struct Scene;
+struct TimePlan;
 
 // Where the next step starts and how far it may go.
 struct StepRequest {
@@ -51,7 +52,7 @@ class TimeStepper {
     throw std::logic_error("TimeStepper::interpolate: this scheme has no dense output");  // callers ask interpolates()
   }
 
-  // A scheme with error control (RKC) takes tolerance `tol` from its next step on, its controller's
+  // A scheme with error control (RKC2, ROCK4) takes tolerance `tol` from its next step on, its controller's
   // next proposal rescaled to it; false: this scheme has no tolerance (Heun, a fixed step).
   virtual bool set_tolerance(double tol) {
     (void)tol;
@@ -78,15 +79,16 @@ class TimeStepper {
   virtual void save(nlohmann::json& extra, Eigen::MatrixXd& matrix) const = 0;
   virtual void load(const nlohmann::json& extra, const Eigen::MatrixXd& matrix, const Points& x) = 0;
 
-  // Reports: the status-line fragment ("heun", "rkc s  12"); summary.json's scheme-specific keys
+  // Reports: the status-line fragment ("heun", "rkc s  12", "rock4 s  12"); summary.json's scheme-specific keys
   // at the final state x after `steps` accepted steps (docs/scene-and-output.md §3.5).
   virtual std::string status() const = 0;
   virtual void summarize(nlohmann::json& summary, const Points& x, long steps) const = 0;
 };
 
-// The scheme of scene.time.scheme for a run from state x. volume0: the enclosed volume that a
-// scheme projects onto with fluid.volume_correction (RKC, docs/time-integration.md §5.7).
-std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const Triangles& triangles, double volume0,
-                                               const Points& x);
+// The plan's scheme (stepping/time_plan.hpp) for a run from state x, at `tolerance` (the plan's
+// tolerance in force there; unused without error control). volume0: the enclosed volume that a
+// stabilised scheme projects onto with fluid.volume_correction (docs/time-integration.md §5.7).
+std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const TimePlan& plan, double tolerance,
+                                               const Triangles& triangles, double volume0, const Points& x);
 
 }  // namespace capsflow

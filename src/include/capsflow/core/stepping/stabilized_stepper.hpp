@@ -1,22 +1,18 @@
 #pragma once
-// Damped second-order Runge–Kutta–Chebyshev (RKC2) with local error control: the default time
-// integrator (docs/time-integration.md §5.7) — and, with Method::Rock4, the fourth-order ROCK4
-// family (stepping/rock4_coefficients.hpp, §5.9), whose steps share everything below but the stages,
-// the error estimate (embedded third order, O(τ⁴): the controller's exponent 1/4) and the stage
-// count (ℓ_s ≈ 0.353 s²). The numbered outline below is RKC2's. Why RKC2 and not ROCK2: both have stability
-// intervals growing like s² (0.65 s² and 0.81 s²); RKC2's coefficients are closed-form (no stored
-// tables), it has a free embedded error estimate, and the capsule Jacobian's spectrum is real up to
-// the O(γ̇) flow terms, where ROCK2's better damping of imaginary parts buys nothing.
+// What the two stabilised explicit schemes share (docs/time-integration.md §5.7): the spectral
+// radius, the stage count it implies, the error-controlled step, dense output, the stage predictor
+// and the checkpointed state. The schemes themselves — their stages and error estimates — are
+// Rkc2 (stepping/rkc2.hpp) and Rock4 (stepping/rock4.hpp).
 //
 // A step of size τ from y_n with F_n = F(y_n) (kept from the previous step: first same as last):
 //   1. ρ: the spectral radius (SpectralRadiusEstimator, × margin), refreshed every
 //      `rho_refresh_steps` accepted steps and after a rejection;
-//   2. s: the fewest stages with β(s) ≥ τ ρ (RkcCoefficients::stages_for);
-//   3. the s stages, the optional projection of y_{n+1} onto an invariant (the capsule's volume,
-//      rhs/volume_constraint.hpp), then F_{n+1} = F(y_{n+1});
-//   4. error: Est = [12 (y_n − y_{n+1}) + 6 τ (F_n + F_{n+1})] / 15 (Sommeijer et al. 1998), measured
-//      as the RMS over nodes of |Est_i| in units of ℓ, against `tolerance`; the step is accepted
-//      when err = RMS/tolerance ≤ 1, and the next τ follows from err^(−1/3) (local error O(τ³)).
+//   2. s: the fewest stages whose stability interval β(s) covers τ ρ (the scheme's stages_for);
+//   3. the scheme's s stages, the optional projection of y_{n+1} onto an invariant (the capsule's
+//      volume, rhs/volume_constraint.hpp), then F_{n+1} = F(y_{n+1});
+//   4. error: the scheme's estimate (optionally filtered), as the RMS over nodes in units of ℓ,
+//      against `tolerance`; accepted when err = RMS/tolerance ≤ 1; the next τ from err^(−1/q),
+//      q the estimate's order + 1, with RKC's predictive (PI) correction.
 // With error_control = false every step is accepted at the given τ (stages still from ρ).
 //
 // As a TimeStepper: the step is the controller's proposal, the last stretch before a stop cut into
@@ -24,14 +20,13 @@
 // control, the fixed `fixed_dt`, shortened only where it would pass an output time. With error
 // control it has dense output, so its stops are checkpoints and t_end, not output times: the cubic
 // Hermite interpolant of y_n, F_n, y_{n+1}, F_{n+1} (all at hand after a step), whose error
-// O(τ⁴) lies below the step's local error O(τ³) (Sommeijer, Shampine & Verwer 1998 give RKC the
-// same interpolant).
+// O(τ⁴) lies below RKC2's local error O(τ³) (Sommeijer, Shampine & Verwer 1998 give RKC the same
+// interpolant).
 #include <functional>
+#include <limits>
 #include <utility>
 #include <nlohmann/json_fwd.hpp>
 
-#include "capsflow/core/stepping/rkc_coefficients.hpp"
-#include "capsflow/core/stepping/rock4_coefficients.hpp"
 #include "capsflow/core/stepping/spectral_radius.hpp"
 #include "capsflow/core/stepping/time_stepper.hpp"
 #include "capsflow/core/types.hpp"
@@ -44,22 +39,23 @@ namespace capsflow {
 // each to unit length) are dropped rather than extrapolated along; a state equal to states_0 gets
 // weight 0. Deterministic: serial sums in a fixed order.
 void stage_weights(const Points& y, const Points* const* states, int m, double* w);
+// The predictor of a stage y: its stage_weights on the given states, whose solutions the
+// right-hand side holds in those slots.
+void predict_stage(StagePredictor& p, const Points& y, const Points* const* states, const int* slots, int terms);
 
-class Rkc final : public TimeStepper {
+class StabilizedStepper : public TimeStepper {
  public:
-  // The stage scheme: damped RKC2 (second order, β ≈ 0.65 s²) or the fourth-order ROCK4 family
-  // (β ≈ 0.35 s², Rock4Coefficients). Everything else — ρ, the controller, dense output,
-  // checkpoints — is shared; the controller's exponent follows the estimate's order.
-  enum class Method { Rkc2, Rock4 };
+  // ρ refreshed every 10 accepted steps: RKC refreshes every 25, but the steps here are long.
+  static constexpr int kRhoRefreshSteps = 10;
+  // The stage cap: round-off in the Chebyshev recurrence grows like s²·ε.
+  static constexpr int kMaxStages = 250;
   struct Options {
-    Method method = Method::Rkc2;
     double tolerance = 1e-4;      // local error per step, RMS over nodes, in units of ℓ
     bool error_control = true;
     double fixed_dt = 0;          // the step without error control (next_step)
     double rho_margin = kSpectralRadiusMargin;  // ρ = margin × power-iteration estimate
-    int rho_refresh_steps = 10;   // RKC refreshes every 25 steps; ours are long (see docs)
-    int max_stages = 250;         // round-off in the Chebyshev recurrence grows like s²·ε
-    double damping = RkcCoefficients::kDefaultDamping;
+    int rho_refresh_steps = kRhoRefreshSteps;
+    int max_stages = kMaxStages;
     // The analytic bound at a state (stepping/stability.hpp, from the current shortest edge; may be
     // empty). It is the fallback when the power iteration does not converge, and between refreshes
     // ρ follows its growth: ρ(x) = ρ_refresh × max(1, bound(x)/bound(x_refresh)), so a mesh that
@@ -68,8 +64,7 @@ class Rkc final : public TimeStepper {
     std::function<void(Points&)> project;  // applied to y_{n+1} before F(y_{n+1}); may be empty
     // The stage predictor (EvaluationHint::predictor): each stage Y_m, m ≥ 2, is told the weights
     // of the combination of Y_0, Y_1, Y_{m−2}, Y_{m−1} closest to it (stage_weights), so that the
-    // right-hand side starts its inner solve from the same combination of their solutions. ROCK4:
-    // its recurrence stages and u_1 the same way, its finishing stages from Y_0, Y_1, g_{s−5}, u_1.
+    // right-hand side starts its inner solve from the same combination of their solutions.
     bool predict_stages = true;
     // Applied to the error estimate before its norm (may be empty). ROCK4 gets the grid-scale
     // low-pass (stepping/grid_scale_filter.hpp): its estimate grows like |z| on the stiff modes.
@@ -82,8 +77,6 @@ class Rkc final : public TimeStepper {
     int stages = 0;
     long evaluations = 0;  // right-hand-side evaluations of this attempt, ρ estimate included
   };
-
-  explicit Rkc(Options opt);
 
   // One attempt of size tau from x. Accepted: x ← y_{n+1}. Rejected: x unchanged.
   StepReport step(RightHandSide& f, Points& x, double tau);
@@ -120,30 +113,40 @@ class Rkc final : public TimeStepper {
   Eigen::MatrixXd matrix_state() const;  // [F_n | direction] (N × 6), empty before the first step
   void set_matrix_state(const Eigen::MatrixXd& m);
 
- private:
-  void refresh_rho(RightHandSide& f, const Points& x);
-  // The stages of one step of size tau from y0_ (F = f0_): y_{n+1} in yjm1_, F(y_{n+1}) in f1_, the
-  // error estimate in est_ (with error control); returns the evaluations.
-  long rkc2_stages(RightHandSide& f, double tau, int s);
-  long rock4_stages(RightHandSide& f, double tau, int s);
-  // The error estimate's order + 1: the controller's exponent is its inverse.
-  double estimate_order() const { return opt_.method == Method::Rock4 ? 4.0 : 3.0; }
-  // The hint of the evaluation at stage point Y_m (m ≥ 1; yjm2_ = Y_{m−1}, yj_ = Y_{m−2}).
-  EvaluationHint stage_hint(int m, const Points& y, int keep_below) const;  // stages m < keep_below keep their solution
-  EvaluationHint finishing_hint(int m, const Points& y, int base) const;    // ROCK4's stages after u_1 = g_base
-  double rms(const Points& v) const;
+ protected:
+  // beta_max: the stability interval at the stage cap (the longest step it allows is β_max/ρ).
+  StabilizedStepper(Options opt, double beta_max);
+
+  // The scheme: the stages of one step of size tau from y0_ (F = f0_), leaving y_{n+1} in yjm1_,
+  // F(y_{n+1}) in f1_ and, with error control, the error estimate in est_; returns the evaluations.
+  virtual long stages(RightHandSide& f, double tau, int s) = 0;
+  virtual int stages_for(double tau_rho) const = 0;  // the fewest stages with β(s) ≥ τρ
+  virtual double estimate_order() const = 0;         // the estimate's order + 1: the controller's 1/exponent
+  // The longest τρ of a first error-controlled step, before any estimate or rejection has checked ρ.
+  virtual double first_step_interval() const { return std::numeric_limits<double>::infinity(); }
+  virtual const char* name() const = 0;  // "rkc", "rock4": the status line's
+
+  // The hint of the evaluation at stage point Y_m (m ≥ 1; yjm2_ = Y_{m−1}, yj_ = Y_{m−2}); stages
+  // m < keep_below keep their solution for the stages after them.
+  EvaluationHint stage_hint(int m, const Points& y, int keep_below) const;
 
   Options opt_;
-  double beta_max_;      // β(max_stages): the longest step the stage cap allows is β_max/ρ
-  RkcCoefficients k_;    // of the last step; rebuilt only when the stage count changes
-  Rock4Coefficients k4_;  // the same for ROCK4
-  Points kw_[4];          // ROCK4: F at the finishing stages
+  // The stage vectors: y0_ = y_n, y1_ = Y_1 (the stage predictor), yjm1_/yjm2_/yj_ the recurrence's
+  // last three, fj_ a stage's F, f0_ = F_n, f1_ = F_{n+1}, est_ the error estimate.
+  Points f0_, f1_, y0_, y1_, yjm1_, yjm2_, yj_, fj_, est_;
+
+ private:
+  void refresh_rho(RightHandSide& f, const Points& x);
+  double rms(const Points& v) const;
+  void control_after_accepted(double tau, double error);
+  void control_after_rejected(double tau, double error);
+
+  double beta_max_;
   SpectralRadiusEstimator power_;
   double rho_ = 0, rho_refresh_ = 0, analytic_at_refresh_ = 0;
   long rho_evaluations_ = 0;
   int steps_since_rho_ = 0;
   bool rho_stale_ = true;
-  Points f0_, f1_, y0_, y1_, yjm1_, yjm2_, yj_, fj_, est_;  // y1_ = Y_1 (the stage predictor)
   bool f0_valid_ = false;
   double tau_next_ = 0, tau_prev_ = 0, err_prev_ = 0;
   bool last_rejected_ = false;

@@ -1,4 +1,4 @@
-#include "capsflow/core/stepping/rkc.hpp"
+#include "capsflow/core/stepping/stabilized_stepper.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +14,14 @@ namespace capsflow {
 namespace {
 // Step-size controller: the classic safety factor 0.8 and growth bounds [0.1, 10] of RKC.
 constexpr double kSafety = 0.8, kMinFactor = 0.1, kMaxFactor = 10.0;
-// The longest first ROCK4 step, in stages (see Rkc::step).
-constexpr int kRock4FirstStages = 20;
+// The first step: τ with the error of an Euler step, τ |F|/2, at the tolerance, but at most 0.1
+// of γ̇t (a bounded guess; rejections correct it).
+constexpr double kFirstStepMax = 0.1;
+// Landing on a stop in equal steps: up to 20 % above the proposal (its safety factor 0.8 leaves a
+// factor 2 in the error).
+constexpr double kLandingStretch = 1.2;
+// After an inner solve failed: a step a quarter as long (a nearer stage lets the warm start work).
+constexpr double kFailureShrink = 0.25;
 }  // namespace
 
 void stage_weights(const Points& y, const Points* const* states, int m, double* w) {
@@ -57,15 +63,14 @@ void stage_weights(const Points& y, const Points* const* states, int m, double* 
   }
 }
 
-// The predictor of a stage y: its weights on the given states, whose solutions are in those slots.
-static void predict_from(StagePredictor& p, const Points& y, const Points* const* states, const int* slots, int terms) {
+void predict_stage(StagePredictor& p, const Points& y, const Points* const* states, const int* slots, int terms) {
   double w[StagePredictor::kTerms];
   stage_weights(y, states, terms, w);
   p.terms = terms;
   for (int t = 0; t < terms; ++t) p.slot[t] = slots[t], p.weight[t] = w[t];
 }
 
-EvaluationHint Rkc::stage_hint(int m, const Points& y, int keep_below) const {
+EvaluationHint StabilizedStepper::stage_hint(int m, const Points& y, int keep_below) const {
   EvaluationHint h{EvaluationHint::Role::Trajectory, m};
   if (!opt_.predict_stages) return h;
   StagePredictor& p = h.predictor;
@@ -79,27 +84,16 @@ EvaluationHint Rkc::stage_hint(int m, const Points& y, int keep_below) const {
   const Points* states[StagePredictor::kTerms] = {&y0_, m >= 4 ? &y1_ : (m == 2 ? &yjm2_ : &yj_), &yjm2_, &yj_};
   const int slots[StagePredictor::kTerms] = {0, 1, 2 + (m - 1) % 2, 2 + m % 2};
   // distinct: {Y_0, Y_1}, {Y_0, Y_1, Y_2}, {Y_0, Y_1, Y_{m−1}, Y_{m−2}}
-  predict_from(p, y, states, slots, m == 2 ? 2 : (m == 3 ? 3 : 4));
+  predict_stage(p, y, states, slots, m == 2 ? 2 : (m == 3 ? 3 : 4));
   if (m < keep_below) p.keep = 2 + m % 2;
   return h;
 }
 
-// ROCK4's finishing stages lie within a short step of u_1 = g_{s−4}: predicted from Y_0, Y_1,
-// g_{s−5} and u_1 (whose evaluation kept its solution), none of them kept.
-EvaluationHint Rkc::finishing_hint(int m, const Points& y, int base) const {
-  EvaluationHint h{EvaluationHint::Role::Trajectory, m};
-  if (!opt_.predict_stages || base < 3) return h;  // Y_1 and g_{s−5} distinct
-  const Points* states[StagePredictor::kTerms] = {&y0_, &y1_, &yjm2_, &yjm1_};  // yjm2_ = g_{s−5}, yjm1_ = u_1
-  const int slots[StagePredictor::kTerms] = {0, 1, 2 + (base - 1) % 2, 2 + base % 2};
-  predict_from(h.predictor, y, states, slots, 4);
-  return h;
-}
-
-double Rkc::rms(const Points& v) const {
+double StabilizedStepper::rms(const Points& v) const {
   return v.rows() ? std::sqrt(v.squaredNorm() / static_cast<double>(v.rows())) : 0.0;
 }
 
-void Rkc::refresh_rho(RightHandSide& f, const Points& x) {
+void StabilizedStepper::refresh_rho(RightHandSide& f, const Points& x) {
   // λ ≠ 1: after a rejected step the probes would be differenced against the discarded state's
   // second-kind solve, and σ came out 10–240× too large (docs/time-integration.md §5.10).
   if (probe_base_elsewhere_ && f.probes_difference_against_last_evaluation()) {
@@ -118,77 +112,9 @@ void Rkc::refresh_rho(RightHandSide& f, const Points& x) {
   rho_stale_ = false;
 }
 
-Rkc::Rkc(Options opt) : opt_(std::move(opt)) {
-  beta_max_ = opt_.method == Method::Rock4
-                  ? Rock4Coefficients::stability_interval(std::min(opt_.max_stages, Rock4Coefficients::max_stages()))
-                  : RkcCoefficients::stability_interval(opt_.max_stages, opt_.damping);
-}
+StabilizedStepper::StabilizedStepper(Options opt, double beta_max) : opt_(std::move(opt)), beta_max_(beta_max) {}
 
-long Rkc::rkc2_stages(RightHandSide& f, double tau, int s) {
-  if (k_.stages != s) k_ = RkcCoefficients::make(s, opt_.damping);
-  const RkcCoefficients& k = k_;
-  long evaluations = 0;
-  // Y_1 = Y_0 + μ̃_1 τ F(Y_0)
-  yjm2_ = y0_;
-  yjm1_.noalias() = y0_ + (k.mu_t[1] * tau) * f0_;
-  if (opt_.predict_stages && s >= 4) y1_ = yjm1_;
-  for (int j = 2; j <= s; ++j) {
-    f.evaluate(yjm1_, fj_, stage_hint(j - 1, yjm1_, s));
-    ++evaluations;
-    yj_.noalias() = (1 - k.mu[j] - k.nu[j]) * y0_ + k.mu[j] * yjm1_ + k.nu[j] * yjm2_ +
-                    (k.mu_t[j] * tau) * fj_ + (k.gamma_t[j] * tau) * f0_;
-    std::swap(yjm2_, yjm1_);
-    std::swap(yjm1_, yj_);
-  }
-  // yjm1_ = Y_s = y_{n+1}; its velocity is the next step's F_n.
-  if (opt_.project && yjm1_.allFinite()) opt_.project(yjm1_);
-  f.evaluate(yjm1_, f1_, stage_hint(s, yjm1_, s));
-  ++evaluations;
-  if (opt_.error_control) est_.noalias() = (12.0 / 15.0) * (y0_ - yjm1_) + (6.0 * tau / 15.0) * (f0_ + f1_);
-  return evaluations;
-}
-
-long Rkc::rock4_stages(RightHandSide& f, double tau, int s) {
-  if (k4_.stages != s) k4_ = Rock4Coefficients::make(s);
-  const Rock4Coefficients& k = k4_;
-  long evaluations = 0;
-  // Recurrence part: g_0 = y_n, g_1 = g_0 + μ_1 τ F(g_0), g_j = μ_j τ F(g_{j−1}) − ν_j g_{j−1} − κ_j g_{j−2}.
-  // Its stages g_j are predicted as RKC2's are (the same three-term shape), and so is u_1 = g_{s−4};
-  // the finishing stages, within a short step of u_1, from finishing_hint.
-  const int base = s - 4;
-  yjm2_ = y0_;
-  yjm1_.noalias() = y0_ + (k.mu[1] * tau) * f0_;
-  if (opt_.predict_stages) y1_ = yjm1_;
-  for (int j = 2; j <= base; ++j) {
-    f.evaluate(yjm1_, fj_, stage_hint(j - 1, yjm1_, base));
-    ++evaluations;
-    yj_.noalias() = (k.mu[j] * tau) * fj_ - k.nu[j] * yjm1_ - k.kappa[j] * yjm2_;
-    std::swap(yjm2_, yjm1_);
-    std::swap(yjm1_, yj_);
-  }
-  // Finishing method from u_1 = g_{s−4} (in yjm1_; yjm2_ and yj_ are free).
-  const Points& u1 = yjm1_;
-  f.evaluate(u1, kw_[0], stage_hint(base, u1, base + 1));
-  Points& u = yj_;  // free once u_1's prediction has used it
-  u.noalias() = u1 + (k.a[0] * tau) * kw_[0];
-  f.evaluate(u, kw_[1], finishing_hint(base + 1, u, base));
-  u.noalias() = u1 + (k.a[1] * tau) * kw_[0] + (k.a[2] * tau) * kw_[1];
-  f.evaluate(u, kw_[2], finishing_hint(base + 2, u, base));
-  u.noalias() = u1 + (k.a[3] * tau) * kw_[0] + (k.a[4] * tau) * kw_[1] + (k.a[5] * tau) * kw_[2];
-  f.evaluate(u, kw_[3], finishing_hint(base + 3, u, base));
-  evaluations += 4;
-  yjm2_.noalias() = u1 + tau * (k.b[0] * kw_[0] + k.b[1] * kw_[1] + k.b[2] * kw_[2] + k.b[3] * kw_[3]);
-  std::swap(yjm1_, yjm2_);  // yjm1_ = y_{n+1}
-  if (opt_.project && yjm1_.allFinite()) opt_.project(yjm1_);
-  f.evaluate(yjm1_, f1_, {EvaluationHint::Role::Trajectory, s});
-  ++evaluations;
-  if (opt_.error_control)
-    est_.noalias() = tau * ((k.b[0] - k.bhat[0]) * kw_[0] + (k.b[1] - k.bhat[1]) * kw_[1] + (k.b[2] - k.bhat[2]) * kw_[2] +
-                            (k.b[3] - k.bhat[3]) * kw_[3] - k.bhat[4] * f1_);
-  return evaluations;
-}
-
-double Rkc::proposed_step(RightHandSide& f, const Points& x) {
+double StabilizedStepper::proposed_step(RightHandSide& f, const Points& x) {
   if (tau_next_ > 0) return tau_next_;
   // First step: τ with the error of an Euler step, τ |F|/2, at the tolerance (then the controller
   // takes over); a bounded guess, rejections correct it.
@@ -198,11 +124,11 @@ double Rkc::proposed_step(RightHandSide& f, const Points& x) {
     probe_base_elsewhere_ = false;
   }
   const double v = rms(f0_);
-  tau_next_ = v > 0 ? std::min(0.1, std::sqrt(opt_.tolerance / v)) : 0.1;
+  tau_next_ = v > 0 ? std::min(kFirstStepMax, std::sqrt(opt_.tolerance / v)) : kFirstStepMax;
   return tau_next_;
 }
 
-Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
+StabilizedStepper::StepReport StabilizedStepper::step(RightHandSide& f, Points& x, double tau) {
   StepReport rep;
   const long rho_before = rho_evaluations_;
   dense_valid_ = false;  // the stages below overwrite y_n and F_n
@@ -219,22 +145,18 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
   }
   // Stage cap: a step that would need more stages is shortened to what the cap allows.
   if (tau * rho_ > beta_max_) tau = beta_max_ / rho_;
-  // ROCK4's first step: at most kRock4FirstStages stages. Its tolerances are ~100× RKC2's numbers,
-  // so the first guess (τ|F|/2 at the tolerance) can span up to 152 stages before any estimate or
-  // rejection has checked ρ — on a Skalak wall at Ca_s = 1e-3 a stage's rotation solve diverged
-  // inside such a step (docs/time-integration.md §5.9). Shortening only what is that long leaves
-  // every other run as it was. Only a guess is capped: a fixed time.dt is the user's (and without
-  // error control tau_prev_ stays 0, so every step would look like a first one).
-  if (opt_.method == Method::Rock4 && opt_.error_control && tau_prev_ == 0 && !last_rejected_) {
-    const double first = Rock4Coefficients::stability_interval(kRock4FirstStages);
+  // A first guess is capped where the scheme asks (Rock4::first_step_interval). Only a guess: a
+  // fixed time.dt is the user's (and without error control tau_prev_ stays 0, so every step would
+  // look like a first one).
+  if (opt_.error_control && tau_prev_ == 0 && !last_rejected_) {
+    const double first = first_step_interval();
     if (tau * rho_ > first) tau = first / rho_;
   }
-  const bool rock4 = opt_.method == Method::Rock4;
-  const int s = rock4 ? Rock4Coefficients::stages_for(tau * rho_) : RkcCoefficients::stages_for(tau * rho_, opt_.damping);
+  const int s = stages_for(tau * rho_);
   rep.tau = tau;
   rep.stages = s;
   y0_ = x;
-  rep.evaluations += rock4 ? rock4_stages(f, tau, s) : rkc2_stages(f, tau, s);
+  rep.evaluations += stages(f, tau, s);
   if (!yjm1_.allFinite() || !f1_.allFinite()) {
     rep.error = std::numeric_limits<double>::infinity();
   } else if (opt_.error_control) {
@@ -250,43 +172,51 @@ Rkc::StepReport Rkc::step(RightHandSide& f, Points& x, double tau) {
     dense_valid_ = true;
     dense_tau_ = tau;
     ++steps_since_rho_;
-    if (opt_.error_control) {
-      double fac = rep.error > 0 ? kSafety * std::pow(rep.error, -1.0 / estimate_order()) : kMaxFactor;
-      // Predictive (PI) correction after an accepted step, as in RKC: do not grow faster than the
-      // error history supports.
-      if (tau_prev_ > 0 && err_prev_ > 0 && rep.error > 0)
-        fac = std::min(fac, fac * (tau / tau_prev_) * std::pow(err_prev_ / rep.error, 1.0 / estimate_order()));
-      if (last_rejected_) fac = std::min(fac, 1.0);
-      tau_next_ = tau * std::clamp(fac, kMinFactor, kMaxFactor);
-      tau_prev_ = tau;
-      err_prev_ = rep.error;
-    } else {
-      tau_next_ = tau;
-    }
-    last_rejected_ = false;
+    control_after_accepted(tau, rep.error);
   } else {
-    // The state is unchanged, and F_n with it. A rejection often means ρ moved: refresh it.
-    const double fac = std::isfinite(rep.error) ? kSafety * std::pow(rep.error, -1.0 / estimate_order()) : kMinFactor;
-    tau_next_ = tau * std::clamp(fac, kMinFactor, 1.0);
-    rho_stale_ = true;
-    last_rejected_ = true;
+    control_after_rejected(tau, rep.error);
   }
   rep.evaluations += rho_evaluations_ - rho_before;
   return rep;
 }
 
-bool Rkc::shorten_after_failure(double tau) {
+void StabilizedStepper::control_after_accepted(double tau, double error) {
+  if (opt_.error_control) {
+    double fac = error > 0 ? kSafety * std::pow(error, -1.0 / estimate_order()) : kMaxFactor;
+    // Predictive (PI) correction after an accepted step, as in RKC: do not grow faster than the
+    // error history supports.
+    if (tau_prev_ > 0 && err_prev_ > 0 && error > 0)
+      fac = std::min(fac, fac * (tau / tau_prev_) * std::pow(err_prev_ / error, 1.0 / estimate_order()));
+    if (last_rejected_) fac = std::min(fac, 1.0);
+    tau_next_ = tau * std::clamp(fac, kMinFactor, kMaxFactor);
+    tau_prev_ = tau;
+    err_prev_ = error;
+  } else {
+    tau_next_ = tau;
+  }
+  last_rejected_ = false;
+}
+
+// The state is unchanged, and F_n with it. A rejection often means ρ moved: refresh it.
+void StabilizedStepper::control_after_rejected(double tau, double error) {
+  const double fac = std::isfinite(error) ? kSafety * std::pow(error, -1.0 / estimate_order()) : kMinFactor;
+  tau_next_ = tau * std::clamp(fac, kMinFactor, 1.0);
+  rho_stale_ = true;
+  last_rejected_ = true;
+}
+
+bool StabilizedStepper::shorten_after_failure(double tau) {
   if (!opt_.error_control || !(tau > 0)) return false;
   // As after a rejection: the state is unchanged, and ρ may have moved with whatever defeated the solve.
-  tau_next_ = 0.25 * tau;
+  tau_next_ = kFailureShrink * tau;
   rho_stale_ = true;
   last_rejected_ = true;
   return true;
 }
 
-bool Rkc::set_tolerance(double tol) {
+bool StabilizedStepper::set_tolerance(double tol) {
   if (!opt_.error_control) return false;
-  if (!(tol > 0)) throw std::invalid_argument("Rkc::set_tolerance: the tolerance must be positive");
+  if (!(tol > 0)) throw std::invalid_argument("StabilizedStepper::set_tolerance: the tolerance must be positive");
   // The error estimate grows like τ^q (q = 3 for RKC2, 4 for ROCK4): the step that meets the new
   // tolerance as the proposal met the old one is τ (new/old)^(1/q); the last error, in units of the
   // new tolerance, keeps the PI correction's ratio meaningful.
@@ -297,8 +227,8 @@ bool Rkc::set_tolerance(double tol) {
   return true;
 }
 
-void Rkc::interpolate(double theta, Points& x) const {
-  if (!dense_valid_) throw std::logic_error("Rkc::interpolate: no accepted step to interpolate in");
+void StabilizedStepper::interpolate(double theta, Points& x) const {
+  if (!dense_valid_) throw std::logic_error("StabilizedStepper::interpolate: no accepted step to interpolate in");
   // Cubic Hermite basis on [0, 1]: values at both ends and slopes τ F at both ends.
   const double t2 = theta * theta, t3 = t2 * theta;
   const double h00 = 2 * t3 - 3 * t2 + 1, h01 = 3 * t2 - 2 * t3;
@@ -306,7 +236,7 @@ void Rkc::interpolate(double theta, Points& x) const {
   x.noalias() = h00 * y0_ + h01 * yjm1_ + (h10 * dense_tau_) * f1_ + (h11 * dense_tau_) * f0_;
 }
 
-double Rkc::next_step(RightHandSide& f, const Points& x, const StepRequest& r) {
+double StabilizedStepper::next_step(RightHandSide& f, const Points& x, const StepRequest& r) {
   const double remaining = r.to_stop;
   // A fixed time.dt is the user's bound: it lands by shortening, as Heun's does, never stretched.
   if (!opt_.error_control) return std::min(opt_.fixed_dt, remaining);
@@ -314,12 +244,12 @@ double Rkc::next_step(RightHandSide& f, const Points& x, const StepRequest& r) {
   // Land on the next output time in equal steps rather than full steps and a sliver: a sliver
   // costs an evaluation per stage like any step and advances little. Up to 20 % above the
   // proposal (its safety factor 0.8 leaves a factor 2 in the error).
-  return want >= remaining ? remaining : remaining / std::ceil(remaining / (1.2 * want));
+  return want >= remaining ? remaining : remaining / std::ceil(remaining / (kLandingStretch * want));
 }
 
-StepAttempt Rkc::attempt(RightHandSide& f, Points& x, double dt) {
+StepAttempt StabilizedStepper::attempt(RightHandSide& f, Points& x, double dt) {
   const StepReport r = step(f, x, dt);
-  spdlog::trace("rkc: tau {:.4e} s {} err {:.3f} {} evals {} rho {:.1f}", r.tau, r.stages, r.error,
+  spdlog::trace("{}: tau {:.4e} s {} err {:.3f} {} evals {} rho {:.1f}", name(), r.tau, r.stages, r.error,
                 r.accepted ? "accepted" : "rejected", r.evaluations, rho_);
   if (r.accepted) {
     stages_total_ += r.stages;
@@ -329,28 +259,25 @@ StepAttempt Rkc::attempt(RightHandSide& f, Points& x, double dt) {
   return {r.accepted, r.tau, r.stages};
 }
 
-void Rkc::save(nlohmann::json& extra, Eigen::MatrixXd& matrix) const {
-  extra["rkc"] = scalar_state();
-  // Top-level keys: where checkpoints have kept them since the RKC integrator.
-  extra["stages_total"] = stages_total_;
-  extra["stages_max"] = stages_max_;
+// Under "stabilized_step": a restart may switch between RKC2 and ROCK4 and keeps ρ and the
+// controller; from a checkpoint of another scheme (Heun) the stepper starts afresh.
+void StabilizedStepper::save(nlohmann::json& extra, Eigen::MatrixXd& matrix) const {
+  extra["stabilized_step"] = scalar_state();
   matrix = matrix_state();
 }
 
-void Rkc::load(const nlohmann::json& extra, const Eigen::MatrixXd& matrix, const Points&) {
-  stages_total_ = extra.value("stages_total", 0L);
-  stages_max_ = extra.value("stages_max", 0L);
-  if (!extra.contains("rkc")) return;
-  set_scalar_state(extra.at("rkc"));
+void StabilizedStepper::load(const nlohmann::json& extra, const Eigen::MatrixXd& matrix, const Points&) {
+  if (!extra.contains("stabilized_step")) return;
+  set_scalar_state(extra.at("stabilized_step"));
   set_matrix_state(matrix);
   at_state_ = false;  // F(y_n) is restored, but the wall's last evaluation is the checkpoint's
 }
 
-std::string Rkc::status() const {
-  return fmt::format("{} s {:>3}", opt_.method == Method::Rock4 ? "rock4" : "rkc", last_stages_);
+std::string StabilizedStepper::status() const {
+  return fmt::format("{} s {:>3}", name(), last_stages_);
 }
 
-void Rkc::summarize(nlohmann::json& summary, const Points& x, long steps) const {
+void StabilizedStepper::summarize(nlohmann::json& summary, const Points& x, long steps) const {
   summary["spectral_radius"] = rho_;
   // What the calibrated Heun constant implies at the final shape (real interval 2): the power
   // iteration is expected to see more on shapes the constant was not calibrated for.
@@ -361,14 +288,15 @@ void Rkc::summarize(nlohmann::json& summary, const Points& x, long steps) const 
   summary["spectral_radius_evaluations"] = rho_evaluations_;
 }
 
-nlohmann::json Rkc::scalar_state() const {
+nlohmann::json StabilizedStepper::scalar_state() const {
   return {{"rho", rho_}, {"rho_refresh", rho_refresh_}, {"analytic_at_refresh", analytic_at_refresh_},
           {"rho_evaluations", rho_evaluations_}, {"steps_since_rho", steps_since_rho_},
           {"rho_stale", rho_stale_}, {"f0_valid", f0_valid_}, {"tau_next", tau_next_},
-          {"tau_prev", tau_prev_}, {"err_prev", err_prev_}, {"last_rejected", last_rejected_}};
+          {"tau_prev", tau_prev_}, {"err_prev", err_prev_}, {"last_rejected", last_rejected_},
+          {"stages_total", stages_total_}, {"stages_max", stages_max_}};
 }
 
-void Rkc::set_scalar_state(const nlohmann::json& j) {
+void StabilizedStepper::set_scalar_state(const nlohmann::json& j) {
   rho_ = j.at("rho");
   rho_refresh_ = j.at("rho_refresh");
   analytic_at_refresh_ = j.at("analytic_at_refresh");
@@ -380,9 +308,11 @@ void Rkc::set_scalar_state(const nlohmann::json& j) {
   tau_prev_ = j.at("tau_prev");
   err_prev_ = j.at("err_prev");
   last_rejected_ = j.at("last_rejected");
+  stages_total_ = j.at("stages_total");
+  stages_max_ = j.at("stages_max");
 }
 
-Eigen::MatrixXd Rkc::matrix_state() const {
+Eigen::MatrixXd StabilizedStepper::matrix_state() const {
   const Points& d = power_.direction();
   const Eigen::Index n = std::max(f0_.rows(), d.rows());
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, 6);
@@ -391,7 +321,7 @@ Eigen::MatrixXd Rkc::matrix_state() const {
   return m;
 }
 
-void Rkc::set_matrix_state(const Eigen::MatrixXd& m) {
+void StabilizedStepper::set_matrix_state(const Eigen::MatrixXd& m) {
   if (m.cols() != 6) {
     f0_valid_ = false;
     return;

@@ -1,4 +1,4 @@
-// Issue 15 (label slow, 77 s on one core): the large-deformation shear benchmark
+// The large-deformation shear benchmark (label slow, 77 s on one core):
 // scenes/sphere_nh_shear_ca06.toml (NH membrane, Ca_s = 0.6, t = 8) converges in the mesh.
 // No capsflow value is used as an expected value: the assertions are convergence properties.
 // Measured (docs/large-deformation-shear.md §6): D12(8) = 0.5121, 0.5200, 0.5222 at 320, 1280,
@@ -13,16 +13,18 @@
 
 #include "capsflow/core/driver/run.hpp"
 #include "capsflow/core/scene/scene.hpp"
+#include "temp_dir.hpp"
 
 using namespace capsflow;
 
 namespace {
 double d12_at_t_end(int level) {
+  const io::testing::TempDir dir;  // the runs write only here
   const std::string scene = std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/sphere_nh_shear_ca06.toml";
   RunOptions o;
   o.scene = load_scene(scene, {"mesh.level=" + std::to_string(level), "output.every=1.0", "output.fields=[]",
                                "output.checkpoint_every=0"});
-  o.output_dir = "shear_convergence_l" + std::to_string(level);
+  o.output_dir = (dir.path() / ("shear_convergence_l" + std::to_string(level))).string();
   o.overwrite = true;
   o.threads = 1;
   o.progress_interval = 1e9;
