@@ -10,6 +10,7 @@
 
 #include "capsflow/core/driver/simulation.hpp"
 #include "capsflow/core/driver/time_grid.hpp"
+#include "capsflow/core/geometry/lab_centroid.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/taylor_deformation.hpp"
 #include "capsflow/core/health/run_health.hpp"
@@ -47,6 +48,7 @@ std::optional<StopReason> Simulation::Impl::step() {
   st.dt = a.dt;
   if (auto blow_up = check_step(a)) return blow_up;
   st.t = advance_time(st.t, st.dt, t_stop());
+  advance_centroid(t_step_start);
   ++st.step;
   ++steps_this_segment;
   const SurfaceMesh now{st.x, ref.triangles};
@@ -150,6 +152,21 @@ void Simulation::Impl::write_due_outputs(double t_step_start) {
     advance_checkpoint_index();
     write_checkpoint(folder / io::kCheckpointFile);
   }
+}
+
+void Simulation::Impl::advance_centroid(double t_step_start) {
+  centroid_step_start = t_step_start;
+  centroid_frame_prev = st.centroid_frame;
+  centroid_lab_prev = st.centroid_lab;
+  st.centroid_frame = volume_moments(st.x, ref.triangles).centroid;
+  st.centroid_lab = advance_lab_centroid(scene.flow.gradient, st.t - t_step_start, centroid_lab_prev,
+                                         st.centroid_frame - centroid_frame_prev);
+}
+
+Vec3 Simulation::Impl::lab_centroid_at(double t, const Points& x) const {
+  if (t == st.t) return st.centroid_lab;
+  return advance_lab_centroid(scene.flow.gradient, t - centroid_step_start, centroid_lab_prev,
+                              volume_moments(x, ref.triangles).centroid - centroid_frame_prev);
 }
 
 bool Simulation::Impl::checkpoint_due() const {

@@ -89,10 +89,12 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
   }
   out->write_step(t, x, fields);
   out->write_profiles(profiles_of(cur));
+  const Vec3 centroid = lab_centroid_at(t, x);
   io::CsvRow row = {{"t", t}, {"step", static_cast<double>(st.step)}, {"dt", st.dt},
                     {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
                     {"Le1", s.Le[0]}, {"Le2", s.Le[1]}, {"Le3", s.Le[2]}, {"L1", s.L[0]}, {"L2", s.L[1]}, {"L3", s.L[2]},
                     {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
+                    {"centroid1", centroid[0]}, {"centroid2", centroid[1]}, {"centroid3", centroid[2]},
                     {"E_membrane", en.membrane}, {"E_bending", en.bending}, {"E_shear", en.shear},
                     {"steady_measure", steady->measure()}, {"wall_seconds", wall_seconds()}};
   for (const auto& [name, value] : health->columns()) row.emplace_back(name, value);

@@ -94,6 +94,7 @@ nlohmann::json Simulation::Impl::summary() const {
       {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
       {"L", {s.L[0], s.L[1], s.L[2]}}, {"Le", {s.Le[0], s.Le[1], s.Le[2]}},
       {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
+      {"centroid", {st.centroid_lab[0], st.centroid_lab[1], st.centroid_lab[2]}},
       {"wall_seconds", wall_seconds()}, {"elements", ref.num_elements()}, {"nodes", ref.num_nodes()},
       {"backend", to_string(dyn->single_layer().backend())}, {"backend_reason", dyn->single_layer().backend_reason()},
       {"fmm_order", dyn->single_layer().fmm_order()}, {"fmm_leaf_size", dyn->single_layer().fmm_leaf_size()},

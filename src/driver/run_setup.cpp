@@ -87,6 +87,7 @@ void Simulation::Impl::make_parts() {
 void Simulation::Impl::start_at_reference() {
   st.x = ref.vertices;
   st.volume0 = enclosed_volume(ref);
+  st.centroid_frame = st.centroid_lab = volume_moments(ref).centroid;
   st.area0 = surface_area(ref);
   steady->add(0.0, st.area0, inertia_ellipsoid(ref));
 }

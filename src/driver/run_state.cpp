@@ -10,7 +10,9 @@ nlohmann::json RunState::extra() const {
           {"rhs_evaluations", rhs_evaluations}, {"gmres_per_eval_max", gmres_per_eval_max},
           {"tolerance_tightened", tolerance_tightened},
           {"auto_tolerance_rewind", rewind ? rewind->to_json() : nlohmann::json()},
-          {"creases_seen_at", creases_seen_at ? nlohmann::json(*creases_seen_at) : nlohmann::json()}};
+          {"creases_seen_at", creases_seen_at ? nlohmann::json(*creases_seen_at) : nlohmann::json()},
+          {"centroid_frame", {centroid_frame[0], centroid_frame[1], centroid_frame[2]}},
+          {"centroid_lab", {centroid_lab[0], centroid_lab[1], centroid_lab[2]}}};
 }
 
 void RunState::set_extra(const nlohmann::json& e) {
@@ -25,6 +27,10 @@ void RunState::set_extra(const nlohmann::json& e) {
   tolerance_tightened = e.at("tolerance_tightened");
   if (!e.at("auto_tolerance_rewind").is_null()) rewind = AutoToleranceRewind::from_json(e.at("auto_tolerance_rewind"));
   if (!e.at("creases_seen_at").is_null()) creases_seen_at = e.at("creases_seen_at").get<double>();
+  for (int k = 0; k < 3; ++k) {
+    centroid_frame[k] = e.at("centroid_frame").at(k).get<double>();
+    centroid_lab[k] = e.at("centroid_lab").at(k).get<double>();
+  }
 }
 
 CreaseHistory RunState::creases() const {

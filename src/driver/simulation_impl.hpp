@@ -54,6 +54,8 @@ struct RunState {
   long rejected_steps = 0;         // steps retried with a smaller step (all segments)
   long rhs_evaluations = 0;        // right-hand-side evaluations of earlier segments
   double gmres_per_eval_max = 0;   // λ ≠ 1: the largest gmres_per_eval of a timeseries row (all segments)
+  Vec3 centroid_frame = Vec3::Zero();  // the centroid of x, in the frame the shape is computed in
+  Vec3 centroid_lab = Vec3::Zero();    // the same point in the lab frame (geometry/lab_centroid.hpp)
   // Where the run stands with respect to the creases (the time plan's CreaseAction):
   bool tolerance_tightened = false;  // Rewind: the creases were seen (the tight tolerance, until rewind->t)
   std::optional<AutoToleranceRewind> rewind;  // Rewind: the discarded part, if any
@@ -89,6 +91,8 @@ struct Simulation::Impl {
   void write_due_outputs(double t_step_start);  // after a step from t_step_start to st.t
   bool checkpoint_due() const;                  // st.t is the next periodic checkpoint's time
   void advance_checkpoint_index();              // to the first checkpoint time after st.t
+  void advance_centroid(double t_step_start);   // the lab centroid over the step just accepted
+  Vec3 lab_centroid_at(double t, const Points& x) const;  // at an output time inside that step
   std::optional<StopReason> observe_health();
   // crease_rule.cpp: the time plan's CreaseAction once the wall creases at the mesh scale
   bool wall_creased() const;  // folded at the mesh scale into creases (auto_tolerance.hpp's criterion)
@@ -156,6 +160,8 @@ struct Simulation::Impl {
   double last_tank_treading = std::numeric_limits<double>::quiet_NaN();
   RhsCounters output_mark;  // the right-hand side's counters at the last row (gmres_per_eval)
   Points x_prev, v_out, x_between;  // x_between: an interpolated output state
+  double centroid_step_start = 0;    // the last accepted step's start, and its centroids there
+  Vec3 centroid_frame_prev = Vec3::Zero(), centroid_lab_prev = Vec3::Zero();
   Eigen::VectorXd wall_prev;
 };
 

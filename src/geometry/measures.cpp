@@ -46,15 +46,17 @@ double surface_area(const SurfaceMesh& mesh) { return element_areas(mesh).sum();
 
 double enclosed_volume(const SurfaceMesh& mesh) { return volume_moments(mesh).volume; }
 
-VolumeMoments volume_moments(const SurfaceMesh& mesh) {
+VolumeMoments volume_moments(const SurfaceMesh& mesh) { return volume_moments(mesh.vertices, mesh.triangles); }
+
+VolumeMoments volume_moments(const Points& x, const Triangles& triangles) {
   // Tetrahedra from a reference point o (the vertex mean, to limit round-off) to each facet.
-  const Vec3 o = mesh.vertices.colwise().mean().transpose();
+  const Vec3 o = x.colwise().mean().transpose();
   double vol = 0;
   Vec3 first = Vec3::Zero();
   Mat3 second = Mat3::Zero();
-  for (Eigen::Index e = 0; e < mesh.num_elements(); ++e) {
-    const Vec3 v0 = vertex(mesh, mesh.triangles(e, 0)) - o, v1 = vertex(mesh, mesh.triangles(e, 1)) - o,
-               v2 = vertex(mesh, mesh.triangles(e, 2)) - o;
+  for (Eigen::Index e = 0; e < triangles.rows(); ++e) {
+    const Vec3 v0 = x.row(triangles(e, 0)).transpose() - o, v1 = x.row(triangles(e, 1)).transpose() - o,
+               v2 = x.row(triangles(e, 2)).transpose() - o;
     const double vt = v0.dot(v1.cross(v2)) / 6.0;
     const Vec3 s = v0 + v1 + v2;
     vol += vt;

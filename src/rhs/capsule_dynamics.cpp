@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/rhs/volume_constraint.hpp"
 #include "capsflow/core/rhs/wall_factory.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
@@ -104,7 +105,12 @@ void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
   bie_.apply(x, q_, u_);
 
   clock.restart();
-  v.noalias() = x * L_.transpose() - u_;  // v = v∞ − S[q], v∞ = L x (paper Eq. 34)
+  // v = v∞ − S[q] (paper Eq. 34), the imposed flow taken relative to the capsule's centroid c:
+  // v∞ = L (x − c). A uniform velocity changes neither the load nor the disturbance of a capsule in
+  // a linear unbounded flow, so the shape is the lab frame's; but the centroid no longer drifts
+  // with L c, which in a strain makes any asymmetry grow like e^{γ̇t} (docs/conventions.md §3.1).
+  const Vec3 c = volume_moments(x, tri_).centroid;
+  v.noalias() = (x.rowwise() - c.transpose()) * L_.transpose() - u_;
   if (viscosity_ || volume_correction_) volume_gradient(x, tri_, nodal_area_normal_);
   if (viscosity_) {  // λ ≠ 1: v∞ − S[q] is the right-hand side of the second-kind equation
     clock.lap(times_, Phase::Other);

@@ -103,6 +103,32 @@ TEST(Health, AFailedRotationSolveStopsWithItsReasonAndAReadableFolder) {
   clean(out);
 }
 
+// An inner solve that fails at an output row between steps (dense output evaluates the wall, and at
+// λ ≠ 1 the second-kind solve, at the interpolated state) ends the run like any solver failure:
+// exit 3, summary.json with its reason, the rows written before it and a readable checkpoint. Before,
+// the failure escaped the run loop: exit 1, no summary, and a CSV that stopped at t = 0 although the
+// run had reached γ̇t = 1.3 (the rotation Newton capped at 3 iterations) and 0.27 (GMRES capped at 3).
+TEST(Health, ASolveThatFailsAtAnOutputRowStopsTheRunCleanly) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"--set mesh.level=3 --set time.t_end=5 --set wall.max_newton=3", "solver_failure: rotation Newton"},
+      {std::string(CAPSFLOW_SOURCE_DIR) + "/scenes/sphere_shear_lambda5.toml --set mesh.level=2 --set time.t_end=3 "
+           "--set fluid.max_gmres=3",
+       "solver_failure: viscosity-ratio GMRES"}};
+  for (const auto& [args, reason] : cases) {
+    const fs::path out = scratch("output-row-failure");
+    EXPECT_EQ(run(args, out), 3) << args << "\n" << slurp(out.string() + ".log");
+    const auto s = summary(out);
+    EXPECT_EQ(s.at("stop_reason").get<std::string>().rfind(reason, 0), 0u) << s.at("stop_reason");
+    EXPECT_GT(s.at("t").get<double>(), 0.0);  // the run had advanced
+    const auto rows = series(out);
+    ASSERT_GE(rows.size(), 2u) << args;  // the start and the rows written before the failure
+    EXPECT_LE(rows.back().at("t"), s.at("t").get<double>() + 1e-12);  // none beyond the state kept
+    EXPECT_NO_THROW(capsflow::io::read_checkpoint(out / "checkpoint.h5"));
+    EXPECT_EQ(capsflow::io::read_checkpoint(out / "checkpoint.h5").t, s.at("t").get<double>());  // the state kept
+    clean(out);
+  }
+}
+
 TEST(Health, RotationsAreSolvedPastASaddleInAFoldedShell) {
   // Found by the stress campaign (2026-11-30): GSMB NH sphere, Ca_s = 1, planar hyperbolic flow,
   // 1280 elements. At γ̇t = 1.18 the folded wall makes the rotation equilibrium a saddle; the Newton

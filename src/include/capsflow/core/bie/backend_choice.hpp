@@ -52,11 +52,11 @@ struct SingleLayerCrossoverRow {
   bool measured;          // false: direct was faster at every measured size; the crossover is extrapolated
 };
 // Where the FMM's time (log-log between the measured sizes) meets direct's (perf/bie/crossover.py),
-// re-measured in session 12 after the FMM's leaf sizes were re-calibrated (fmm/calibration.hpp):
+// measured with the FMM's calibrated leaf sizes (fmm/calibration.hpp):
 // 10 432, 14 138, 16 130, 15 805, 16 103, 23 951 at 1e-3 … 1e-8, rounded up; 1e-6 takes 1e-5's
 // 16 200 (2 % apart, within the repeats' spread: a tighter tolerance never switches earlier).
 // Every row is measured: the FMM wins at the largest size of the set (octahedron level 6, 28 400)
-// at every tolerance (with the session-2 leaves direct won there from 1e-6 on, and the rows were
+// at every tolerance (with leaves of 200–600 direct won there from 1e-6 on, and the rows had to be
 // extrapolated to 31 000–50 000). From 1e-6 on the direct sum pairs in double (~1.6× the time per
 // pair), which is why 1e-6 switches no later than 1e-5 although its FMM order is higher. The
 // single-precision pairs need AVX-512 (fmm::kMixedPrecisionDirectSum); without them 1e-3–1e-5 sum
@@ -113,9 +113,9 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
 // instead (double_layer.cpp: the pair geometry is shared by all four, 9 outputs per pair), while
 // the Krylov steps keep the FMM. Measured at 81 920 elements (sqrt(sources × targets) = 70 950,
 // p = 11, perf/bie/double_layer_bench --levels 6 --repeat 3 --threads 2 --backend direct|fmm): CPU s
-// 3.4 against the FMM's 5.3 on a loaded machine (session 11), 2.84 against 3.79 (wall 1.42 against
-// 1.91) on a quiet one (session 12), so the direct pass wins up to ~1.3–1.5× that size, 3.3–3.8×
-// the one-density crossover (28 900). With the FMM at p = 9 (session 17, double_layer_fmm_tolerance)
+// 3.4 against the FMM's 5.3 on a loaded machine, 2.84 against 3.79 (wall 1.42 against
+// 1.91) on a quiet one, so the direct pass wins up to ~1.3–1.5× that size, 3.3–3.8×
+// the one-density crossover (28 900). With the FMM at p = 9 (double_layer_fmm_tolerance)
 // its pass is cheaper: at 81 920 elements it now wins (`--reuse 0`, wall s, a slow host: fused
 // set-up 2.75 against 3.95 direct), so the factor is below 70 950 / 28 900 = 2.45; no level of the
 // icosphere lies between 28 900 and 2 × 28 900, where the factor decides. `reason` gets a clause

@@ -28,6 +28,7 @@ struct VolumeMoments {
   Mat3 second_moment = Mat3::Zero();
 };
 VolumeMoments volume_moments(const SurfaceMesh& mesh);
+VolumeMoments volume_moments(const Points& x, const Triangles& triangles);  // the same, without a copy of x
 
 // Actual half-extents L_i of the surface along x_i: the paper's
 // Table 1 "L_i" = half of (max − min) of the vertex coordinates (exact for P1 geometry).
