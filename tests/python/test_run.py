@@ -15,6 +15,8 @@ import json
 import math
 import os
 import signal
+import subprocess
+import sys
 import threading
 from pathlib import Path
 
@@ -370,3 +372,48 @@ def test_the_log_is_the_command_lines_or_silent(capfd, tmp_path):
     assert capfd.readouterr().out == ""
     capsflow.run(small_scene(), tmp_path / "loud again")  # the level is restored after log=False
     assert "stopped: t_end" in capfd.readouterr().out
+
+
+def test_the_progress_callback_cannot_reenter_the_run(tmp_path):
+    # A callback that finishes the run it reports on (even guarded by `not sim.finished`, which is
+    # still False while finish() runs) called finish() from finish()'s own closing status line,
+    # again and again: a RecursionError, or (with a higher recursion limit, or deeper frames) a
+    # segfault mid-checkpoint that left checkpoint.h5.tmp.PID behind. It runs in a child
+    # interpreter, so that a crash fails this test and no other.
+    script = f"""
+import capsflow
+scene = capsflow.Scene().set("mesh.level", 2).set("time.t_end", 0.3)
+sim = None
+def finish_from_the_callback(p):
+    if not sim.finished:
+        sim.finish()
+sim = capsflow.Simulation(scene, {str(tmp_path / 'out')!r}, progress=finish_from_the_callback, progress_interval=0,
+                          threads=1, log=False)
+try:
+    while sim.step() is None:
+        pass
+    print("step: no error")
+except RuntimeError as e:
+    print("step:", e)
+try:
+    sim.finish()
+    print("finish: no error")
+except RuntimeError as e:
+    print("finish:", e)
+print("finished:", sim.finished, sim.stop_reason)
+"""
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, f"exit {p.returncode}\n{p.stdout}\n{p.stderr}"
+    refusal = "finish() cannot be called from the progress callback"
+    lines = p.stdout.splitlines()
+    # The callback of step 1 is refused; that exception stops the run as interrupted (as any
+    # exception of the callback does) and step() raises it.
+    assert lines[0].startswith("step: " + refusal), p.stdout
+    # finish() then completes the folder; the callback of its closing line is refused too, and
+    # that refusal is raised once the folder is complete.
+    assert lines[1].startswith("finish: " + refusal), p.stdout
+    assert lines[2] == "finished: True interrupted", p.stdout
+    s = summary(tmp_path / "out")
+    assert s["stop_reason"] == "interrupted" and s["steps"] == 1
+    capsflow.read_run(tmp_path / "out")  # the folder reads back
+    assert sorted(f.name for f in (tmp_path / "out").iterdir() if ".tmp." in f.name) == []
