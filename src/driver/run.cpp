@@ -215,7 +215,7 @@ const Points& Simulation::load() const { return impl_->dyn->load(); }
 const Points& Simulation::velocity() { return impl_->state_velocity(); }
 const HealthMonitor& Simulation::health() const { return *impl_->health; }
 std::optional<StopReason> Simulation::stop_reason() const { return impl_->stopped; }
-void Simulation::write_checkpoint(const std::filesystem::path& path) { impl_->write_checkpoint(path); }
+void Simulation::write_checkpoint(const std::filesystem::path& path) { impl_->write_caller_checkpoint(path); }
 
 int Simulation::finish() {
   Impl& s = *impl_;

@@ -64,6 +64,7 @@ bool still_linked(int fd, const fs::path& path) {
 }  // namespace
 
 std::string LockHolder::describe() const {
+  if (pid == 0) return "another capsflow process";  // a lock file that names no holder
   return fmt::format("pid {} on host {} (capsflow {}, started {})", pid, host, command, started_utc);
 }
 
@@ -79,6 +80,20 @@ std::optional<LockHolder> read_lock_holder(const fs::path& lock_file) {
   const std::string text = read_fd(fd);
   ::close(fd);
   return parse_holder(text);
+}
+
+std::optional<LockHolder> folder_held_by_another(const fs::path& dir) {
+  const fs::path lock_file = dir / kFolderLockFile;
+  const int fd = ::open(lock_file.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+  if (fd < 0) return std::nullopt;  // no lock file: nobody holds the folder
+  std::optional<LockHolder> holder;
+  if (::flock(fd, LOCK_SH | LOCK_NB) != 0) {
+    if (errno == EWOULDBLOCK) holder = parse_holder(read_fd(fd)).value_or(LockHolder{});
+  } else {
+    ::flock(fd, LOCK_UN);
+  }
+  ::close(fd);
+  return holder;
 }
 
 bool is_empty_but_for_lock(const fs::path& dir) {

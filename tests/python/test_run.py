@@ -417,3 +417,35 @@ print("finished:", sim.finished, sim.stop_reason)
     assert s["stop_reason"] == "interrupted" and s["steps"] == 1
     capsflow.read_run(tmp_path / "out")  # the folder reads back
     assert sorted(f.name for f in (tmp_path / "out").iterdir() if ".tmp." in f.name) == []
+
+
+def test_a_checkpoint_never_replaces_the_runs_own_files_nor_writes_into_a_locked_folder(tmp_path):
+    own = tmp_path / "ck"
+    with capsflow.Simulation(small_scene(), own, threads=1, log=False) as sim:
+        assert sim.step() is None
+        before = {f.name: f.read_bytes() for f in own.iterdir()}
+        # Every name the run writes (or holds: the lock file), given directly, relatively and
+        # through a symbolic link to the folder: refused, nothing written.
+        (tmp_path / "link").symlink_to(own)
+        names = ("run.h5", "run.xmf", "timeseries.csv", "summary.json", "checkpoint.h5", "checkpoint.prev.h5",
+                 ".capsflow.lock")
+        for name in names:
+            for path in (own / name, os.path.relpath(own / name), tmp_path / "link" / name):
+                with pytest.raises(ValueError, match=f"^checkpoint path '.*' is this run's own {name} in "):
+                    sim.checkpoint(path)
+        assert {f.name: f.read_bytes() for f in own.iterdir()} == before
+        # Another run's folder, locked while that run lives (here in this process: the lock is
+        # per open file, so this run's probe sees it as any other process's).
+        other = capsflow.Simulation(small_scene(), tmp_path / "other", threads=1, log=False)
+        with pytest.raises(OSError, match=f"^checkpoint path '.*mine.h5': its folder .* is in use by pid {os.getpid()} "):
+            sim.checkpoint(tmp_path / "other" / "mine.h5")
+        assert not (tmp_path / "other" / "mine.h5").exists()
+        other.finish()  # releases its folder
+        # Names of the user's own are the user's to choose.
+        sim.checkpoint(own / "mine.h5")
+        sim.checkpoint(tmp_path / "other" / "mine.h5")
+        while sim.step() is None:
+            pass
+    assert sim.result.stop_reason == "t_end"
+    for path in (own / "mine.h5", tmp_path / "other" / "mine.h5"):
+        assert capsflow.run(None, tmp_path / ("from-" + path.parent.name), restart=path, log=False).stop_reason == "t_end"

@@ -62,7 +62,9 @@ class Simulation {
   const HealthMonitor& health() const;
   std::optional<StopReason> stop_reason() const;
   // A checkpoint of the current state at `path` (the run's own checkpoint.h5 is written by the
-  // loop and by finish()); a run restarts from it with --restart.
+  // loop and by finish()); a run restarts from it with --restart. Refused (one line naming the
+  // path, nothing written): one of this run's own files (io/manifest.hpp: run.h5, checkpoint.h5,
+  // the lock file, ...) — std::invalid_argument; a folder another run holds locked — io::FolderBusy.
   void write_checkpoint(const std::filesystem::path& path);
 
  private:

@@ -74,4 +74,9 @@ bool is_empty_but_for_lock(const std::filesystem::path& dir);
 // The holder a lock file names, if it names one (empty or unreadable: nullopt). For messages only.
 std::optional<LockHolder> read_lock_holder(const std::filesystem::path& lock_file);
 
+// Whether another open lock (another process, or another FolderLock of this one) holds `dir`; its
+// holder as the lock file names it (pid 0 when it names none). Probes with a shared lock taken and
+// dropped at once; never creates the lock file. For refusing to write into another run's folder.
+std::optional<LockHolder> folder_held_by_another(const std::filesystem::path& dir);
+
 }  // namespace capsflow::io
