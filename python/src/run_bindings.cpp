@@ -31,6 +31,7 @@
 #include "capsflow/core/driver/run.hpp"
 #include "capsflow/core/driver/simulation.hpp"
 #include "capsflow/core/driver/stop_reason.hpp"
+#include "capsflow/core/driver/thread_count.hpp"
 #include "capsflow/core/health/health_monitor.hpp"
 #include "capsflow/core/io/io_error.hpp"
 #include "capsflow/core/mesh/topology.hpp"
@@ -67,6 +68,8 @@ class PySimulation {
                std::vector<std::string> restart_overrides, int threads, double progress_interval, py::object progress,
                std::string command_line)
       : progress_(std::move(progress)), threads_before_(omp_get_max_threads()) {
+    // libgomp ends the process when it cannot start a thread: refused here, before any folder is locked.
+    check_thread_count(threads, "threads = " + std::to_string(threads));
     RunOptions o;
     if (scene) o.scene = *scene;
     o.output_dir = std::move(output_dir);

@@ -449,3 +449,38 @@ def test_a_checkpoint_never_replaces_the_runs_own_files_nor_writes_into_a_locked
     assert sim.result.stop_reason == "t_end"
     for path in (own / "mine.h5", tmp_path / "other" / "mine.h5"):
         assert capsflow.run(None, tmp_path / ("from-" + path.parent.name), restart=path, log=False).stop_reason == "t_end"
+
+
+def test_a_thread_count_the_machine_cannot_take_is_a_value_error_not_the_end_of_the_interpreter(tmp_path):
+    # libgomp cannot report a thread it fails to start: it prints "Thread creation failed" and
+    # calls exit(1), ending the interpreter. Under a 4 GB address-space limit, 4096 threads (8 MB
+    # stacks: 32 GB) did that; the count is now refused first (at most 4 × the hardware threads,
+    # docs/scene-and-output.md §1), before the folder is created. In a child interpreter, which
+    # has the limit (and would die, not this one).
+    out = tmp_path / "out"
+    script = f"""
+import numpy as np
+import capsflow
+scene = capsflow.Scene().set("mesh.level", 1).set("time.t_end", 0.02)
+for call in (lambda: capsflow.Simulation(scene, {str(out)!r}, threads=4096, log=False),
+             lambda: capsflow.run(scene, {str(out)!r}, threads=4096, log=False),
+             lambda: capsflow.fmm.stokeslet_direct(np.zeros((2, 3)) + [[0, 0, 0], [1, 0, 0]], np.ones((2, 3)), threads=4096)):
+    try:
+        call()
+        print("no error")
+    except ValueError as e:
+        print("ValueError:", e)
+"""
+    import resource
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, resource.RLIM_INFINITY))
+
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300, preexec_fn=limit, env=env)
+    assert p.returncode == 0, f"exit {p.returncode}\n{p.stdout}\n{p.stderr}"
+    lines = p.stdout.splitlines()
+    assert len(lines) == 3, p.stdout
+    for line in lines:
+        assert line.startswith("ValueError: threads = 4096: more than 4 × the "), p.stdout
+    assert not out.exists()
