@@ -219,6 +219,7 @@ void Simulation::write_checkpoint(const std::filesystem::path& path) { impl_->wr
 
 int Simulation::finish() {
   Impl& s = *impl_;
+  s.folder_lock.check_held();  // before the last writes (they check again, each)
   const StopReason reason = s.stopped.value_or(StopReason(StopKind::TEnd));
   if (s.last_output_t != s.st.t) {
     try {

@@ -57,6 +57,7 @@ void Simulation::Impl::update_far_checks() {
 }
 
 void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state) {
+  folder_lock.check_held();  // a removed lock file: another writer may be here (io/folder_lock.hpp)
   const SurfaceMesh cur{x, ref.triangles};
   last_shape = shape_diagnostics(cur);
   const auto& s = last_shape;
@@ -119,6 +120,7 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
 }
 
 void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
+  folder_lock.check_held();
   io::CheckpointState ck;
   ck.step = st.step;
   ck.t = st.t;

@@ -40,6 +40,8 @@ class Simulation {
   // The last output (unless the state was just written), the checkpoint, summary.json and the
   // closing log; releases the folder's lock (another run may continue it while this object is still
   // read); returns the exit code of the stop reason (t_end if the run was not stopped).
+  // step() and finish() throw io::FolderLockLost before writing into a folder whose lock file was
+  // removed or replaced under the run (io/folder_lock.hpp): the run ends there.
   int finish();
   // set_up, step until a stop, finish.
   int run();
