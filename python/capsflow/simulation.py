@@ -221,7 +221,9 @@ class Simulation:
 
     def checkpoint(self, path) -> None:
         """Write a checkpoint of the current state to `path` (an .h5 file); `capsflow run --restart
-        PATH -o NEW` (or capsflow.run(None, NEW, restart=PATH)) continues the run from it."""
+        PATH -o NEW` (or capsflow.run(None, NEW, restart=PATH)) continues the run from it.
+        ValueError for a path that is one of the run's own files (run.h5, checkpoint.h5, ...: the
+        run writes those), OSError for a folder another run holds locked."""
         self._check_open()
         self._sim.write_checkpoint(_path("path", path))
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bindings.hpp"
+#include "capsflow/core/driver/thread_count.hpp"
 #include "capsflow/fmm/direct_sum.hpp"
 #include "capsflow/fmm/fmm.hpp"
 #include "capsflow/fmm/stokeslet.hpp"
@@ -138,6 +139,7 @@ template <class Kernel>
 class KernelFmm {
  public:
   KernelFmm(double tolerance, int order, int leaf_size, int threads) {
+    check_thread_count(threads, "threads = " + std::to_string(threads));  // libgomp would end the interpreter
     opt_.tolerance = tolerance;
     opt_.order = order;
     opt_.leaf_size = leaf_size;
@@ -203,6 +205,7 @@ class KernelFmm {
 
 template <class Kernel>
 Array direct(const Array& sources, const Parts<Kernel>& parts, const std::optional<Array>& targets, int threads) {
+  check_thread_count(threads, "threads = " + std::to_string(threads));  // libgomp would end the interpreter
   const std::size_t ns = rows3(sources, "sources");
   stack_size<Kernel>(parts, ns, false);
   const Array& trg = targets ? *targets : sources;

@@ -7,6 +7,12 @@
 // PyErr_CheckSignals, and a KeyboardInterrupt — or any exception of the progress callback — asks
 // the Simulation to stop (request_stop): its next step returns "interrupted", finish() writes the
 // checkpoint and summary.json as on SIGINT on the command line, and the exception is raised after.
+//
+// The callback runs inside step() or finish(): from there, step(), run_to_end() and finish() are
+// refused with a RuntimeError (which, like any exception of the callback, stops the run as
+// interrupted), so a callback cannot re-enter the run it reports on — finish() called from the
+// callback of finish()'s own status line would recurse until the stack overflowed, in the middle
+// of writing a checkpoint. A callback that wants the run to end calls request_stop().
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -25,6 +31,7 @@
 #include "capsflow/core/driver/run.hpp"
 #include "capsflow/core/driver/simulation.hpp"
 #include "capsflow/core/driver/stop_reason.hpp"
+#include "capsflow/core/driver/thread_count.hpp"
 #include "capsflow/core/health/health_monitor.hpp"
 #include "capsflow/core/io/io_error.hpp"
 #include "capsflow/core/mesh/topology.hpp"
@@ -61,6 +68,8 @@ class PySimulation {
                std::vector<std::string> restart_overrides, int threads, double progress_interval, py::object progress,
                std::string command_line)
       : progress_(std::move(progress)), threads_before_(omp_get_max_threads()) {
+    // libgomp ends the process when it cannot start a thread: refused here, before any folder is locked.
+    check_thread_count(threads, "threads = " + std::to_string(threads));
     RunOptions o;
     if (scene) o.scene = *scene;
     o.output_dir = std::move(output_dir);
@@ -94,6 +103,7 @@ class PySimulation {
 
   // One step; the stop reason once the run is over (also when it already was), else None.
   std::optional<std::string> step() {
+    refuse_in_callback("step()");
     std::optional<StopReason> r;
     {
       py::gil_scoped_release nogil;
@@ -106,6 +116,7 @@ class PySimulation {
 
   // step() until the run stops; the stop reason.
   std::string run_to_end() {
+    refuse_in_callback("run_to_end()");
     for (;;) {
       std::optional<StopReason> r;
       {
@@ -120,6 +131,7 @@ class PySimulation {
   // Stop (as interrupted) if the run is not over, then the last output, checkpoint, summary.json;
   // the exit code. Raises the exception that stopped the run, if any, afterwards.
   int finish() {
+    refuse_in_callback("finish()");
     if (finished_) throw std::logic_error("finish() was called already: the run is over");
     if (!sim_->stop_reason()) {
       sim_->request_stop();
@@ -154,6 +166,13 @@ class PySimulation {
 
   Simulation& sim() { return *sim_; }
 
+  // Refuses to enter the run from its own progress callback (see the top of this file).
+  void refuse_in_callback(const char* what) const {
+    if (in_callback_)
+      throw std::logic_error(std::string(what) + " cannot be called from the progress callback, which runs inside step() "
+                             "and finish(): call request_stop() there, and finish() after the step returns");
+  }
+
  private:
   // A pending signal (KeyboardInterrupt from Python's SIGINT handler) stops the run; the error is
   // kept for finish() to raise.
@@ -171,6 +190,11 @@ class PySimulation {
   void on_progress(const RunProgress& p) {
     py::gil_scoped_acquire gil;
     if (pending_) return;  // stopping already: the callback is not called again
+    struct InCallback {
+      bool& flag;
+      explicit InCallback(bool& f) : flag(f) { flag = true; }
+      ~InCallback() { flag = false; }
+    } in_callback(in_callback_);
     try {
       progress_(p);
     } catch (py::error_already_set& e) {
@@ -189,6 +213,7 @@ class PySimulation {
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<py::error_already_set> pending_;
   bool finished_ = false;
+  bool in_callback_ = false;  // the progress callback is running (on the thread of step() or finish())
 };
 
 }  // namespace

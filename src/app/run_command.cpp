@@ -1,12 +1,16 @@
 // `capsflow run [SCENE] ...`: resolve the scene (or take the checkpoint's) and run it.
 #include <spdlog/spdlog.h>
 
+#include <string>
+
 #include "capsflow/core/driver/run.hpp"
+#include "capsflow/core/driver/thread_count.hpp"
 #include "commands.hpp"
 
 namespace capsflow::app {
 
 int run_command(const RunCommandOptions& o) {
+  check_thread_count(o.threads, "--threads " + std::to_string(o.threads));  // before any folder is locked
   RunOptions r;
   r.output_dir = o.output_dir;
   r.overwrite = o.overwrite;

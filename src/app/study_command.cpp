@@ -3,6 +3,7 @@
 // study/study_runner.
 #include <stdexcept>
 
+#include "capsflow/core/driver/thread_count.hpp"
 #include "capsflow/core/study/study_runner.hpp"
 #include "commands.hpp"
 
@@ -14,6 +15,10 @@ int study_command(const StudyCommandOptions& o) {
   const auto scheduler = from_string<study::Scheduler>(o.scheduler);
   if (!scheduler) throw std::runtime_error("--scheduler " + o.scheduler + ": must be one of " + name_list<study::Scheduler>());
   s.scheduler = *scheduler;
+  // The threads run here (one variant, or --jobs dividing them), before the study folder is
+  // locked; a Slurm job checks its own on its node (it runs --variant).
+  if (s.scheduler == study::Scheduler::Local || !o.variant.empty())
+    check_thread_count(o.threads, "--threads " + std::to_string(o.threads));
   s.jobs = o.jobs;
   s.slurm_options = o.slurm_options;
   s.variant = o.variant;

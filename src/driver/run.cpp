@@ -239,10 +239,11 @@ const Points& Simulation::load() const { return impl_->dyn->load(); }
 const Points& Simulation::velocity() { return impl_->state_velocity(); }
 const HealthMonitor& Simulation::health() const { return *impl_->health; }
 std::optional<StopReason> Simulation::stop_reason() const { return impl_->stopped; }
-void Simulation::write_checkpoint(const std::filesystem::path& path) { impl_->write_checkpoint(path); }
+void Simulation::write_checkpoint(const std::filesystem::path& path) { impl_->write_caller_checkpoint(path); }
 
 int Simulation::finish() {
   Impl& s = *impl_;
+  s.folder_lock.check_held();  // before the last writes (they check again, each)
   const StopReason reason = s.stopped.value_or(StopReason(StopKind::TEnd));
   if (s.last_output_t != s.st.t) {
     try {

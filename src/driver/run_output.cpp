@@ -5,10 +5,13 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/profiles.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/folder_lock.hpp"
+#include "capsflow/core/io/manifest.hpp"
 #include "capsflow/core/io/version.hpp"
 #include "simulation_impl.hpp"
 
@@ -54,6 +57,7 @@ void Simulation::Impl::update_far_checks() {
 }
 
 void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state) {
+  folder_lock.check_held();  // a removed lock file: another writer may be here (io/folder_lock.hpp)
   const SurfaceMesh cur{x, ref.triangles};
   last_shape = shape_diagnostics(cur);
   const auto& s = last_shape;
@@ -118,6 +122,7 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
 }
 
 void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
+  folder_lock.check_held();
   io::CheckpointState ck;
   ck.step = st.step;
   ck.t = st.t;
@@ -143,6 +148,27 @@ void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
   ck.extra = extra.dump();
   ck.run_id = run_id;
   io::write_checkpoint(path, ck);
+}
+
+// The run's own files are written by the run alone: a caller's checkpoint over run.h5 replaced it
+// silently, and one named checkpoint.h5 pushed the run's own checkpoint into the previous slot.
+// Another run's locked folder is that run's to write. Both refused with one line naming the path.
+void Simulation::Impl::write_caller_checkpoint(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path target = fs::weakly_canonical(fs::absolute(path, ec), ec);  // through symbolic links
+  const fs::path dir = target.parent_path();
+  const fs::path own = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+  if (dir == own && io::is_run_folder_name(target.filename().string()))
+    throw std::invalid_argument(fmt::format("checkpoint path '{}' is this run's own {} in {}: write the checkpoint under "
+                                            "another name or in another folder",
+                                            path.string(), target.filename().string(), folder.string()));
+  if (dir != own)
+    if (const auto holder = io::folder_held_by_another(dir))
+      throw io::FolderBusy(fmt::format("checkpoint path '{}': its folder {} is in use by {}: one writer per folder (choose "
+                                       "another folder)",
+                                       path.string(), dir.string(), holder->describe()));
+  write_checkpoint(path);
 }
 
 }  // namespace capsflow

@@ -107,6 +107,9 @@ struct Simulation::Impl {
   // interpolated inside the last step, whose wall and load are solved for it and then put back.
   void write_output_at(double t, const Points& x, bool at_state);
   void write_checkpoint(const std::filesystem::path& path);
+  // A caller's checkpoint (Simulation::write_checkpoint): refuses a path that is one of this run's
+  // own files or lies in a folder another run holds locked, then writes it.
+  void write_caller_checkpoint(const std::filesystem::path& path);
   // run_report.cpp
   void report_progress(bool force);
   nlohmann::json timing_table() const;

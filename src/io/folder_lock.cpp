@@ -64,6 +64,7 @@ bool still_linked(int fd, const fs::path& path) {
 }  // namespace
 
 std::string LockHolder::describe() const {
+  if (pid == 0) return "another capsflow process";  // a lock file that names no holder
   return fmt::format("pid {} on host {} (capsflow {}, started {})", pid, host, command, started_utc);
 }
 
@@ -81,6 +82,32 @@ std::optional<LockHolder> read_lock_holder(const fs::path& lock_file) {
   return parse_holder(text);
 }
 
+namespace {
+// Whether another open lock holds `fd` (probed with a shared lock, dropped at once).
+bool held_elsewhere(int fd) {
+  if (::flock(fd, LOCK_SH | LOCK_NB) != 0) return errno == EWOULDBLOCK;
+  ::flock(fd, LOCK_UN);
+  return false;
+}
+}  // namespace
+
+std::optional<LockHolder> folder_held_by_another(const fs::path& dir) {
+  const fs::path lock_file = dir / kFolderLockFile;
+  const int fd = ::open(lock_file.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+  if (fd >= 0) {
+    const bool held = held_elsewhere(fd);
+    const std::optional<LockHolder> named = held ? parse_holder(read_fd(fd)) : std::nullopt;
+    ::close(fd);
+    if (held) return named.value_or(LockHolder{});
+  }
+  // The folder's own lock: held also when its lock file was removed.
+  const int dir_fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir_fd < 0) return std::nullopt;
+  const bool held = held_elsewhere(dir_fd);
+  ::close(dir_fd);
+  return held ? std::optional<LockHolder>(LockHolder{}) : std::nullopt;
+}
+
 bool is_empty_but_for_lock(const fs::path& dir) {
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
@@ -96,6 +123,27 @@ FolderLock FolderLock::acquire(const fs::path& dir, const std::string& command) 
   if (ec) throw IoError("cannot create output folder '" + dir.string() + "': " + ec.message());
   FolderLock lock;
   lock.path_ = dir / kFolderLockFile;
+  // The folder itself is locked first: a lock file removed while its holder runs (rm, a clean-up
+  // script) must not let a second writer in. Where a folder cannot be flocked (NFS emulates flock
+  // with POSIX locks, which need a file open for writing) the lock file alone decides.
+  lock.dir_fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (lock.dir_fd_ >= 0 && ::flock(lock.dir_fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int err = errno;
+    ::close(lock.dir_fd_);
+    lock.dir_fd_ = -1;
+    if (err == EWOULDBLOCK) {
+      const std::optional<LockHolder> h = read_lock_holder(lock.path_);
+      const bool file = fs::exists(lock.path_, ec);
+      throw FolderBusy(fmt::format("output folder '{}' is in use by {}: one writer per folder (wait for it to end, or choose "
+                                   "another folder)",
+                                   dir.string(),
+                                   h      ? h->describe()
+                                   : file ? std::string("another capsflow process that is starting")
+                                          : fmt::format("another capsflow process, whose lock file {} was removed while it "
+                                                        "ran",
+                                                        kFolderLockFile)));
+    }
+  }
   for (int attempt = 0;; ++attempt) {
     const int fd = ::open(lock.path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
     if (fd < 0)
@@ -128,15 +176,21 @@ FolderLock FolderLock::acquire(const fs::path& dir, const std::string& command) 
   return lock;
 }
 
-FolderLock::FolderLock(FolderLock&& o) noexcept : fd_(o.fd_), path_(std::move(o.path_)), stale_(std::move(o.stale_)) { o.fd_ = -1; }
+FolderLock::FolderLock(FolderLock&& o) noexcept
+    : fd_(o.fd_), dir_fd_(o.dir_fd_), path_(std::move(o.path_)), stale_(std::move(o.stale_)) {
+  o.fd_ = -1;
+  o.dir_fd_ = -1;
+}
 
 FolderLock& FolderLock::operator=(FolderLock&& o) noexcept {
   if (this != &o) {
     release();
     fd_ = o.fd_;
+    dir_fd_ = o.dir_fd_;
     path_ = std::move(o.path_);
     stale_ = std::move(o.stale_);
     o.fd_ = -1;
+    o.dir_fd_ = -1;
   }
   return *this;
 }
@@ -144,12 +198,30 @@ FolderLock& FolderLock::operator=(FolderLock&& o) noexcept {
 FolderLock::~FolderLock() { release(); }
 
 void FolderLock::release() {
-  if (fd_ < 0) return;
-  // Unlink while still holding the lock: a process that opened the file meanwhile finds it
-  // unlinked after its flock() succeeds and retries on a fresh file (still_linked above).
-  ::unlink(path_.c_str());
-  ::close(fd_);  // closing the last descriptor releases the flock
-  fd_ = -1;
+  // The folder first: a writer that gets it meanwhile still meets the lock file's flock, and its
+  // message names this holder.
+  if (dir_fd_ >= 0) {
+    ::close(dir_fd_);
+    dir_fd_ = -1;
+  }
+  if (fd_ >= 0) {
+    // Unlink while still holding the lock: a process that opened the file meanwhile finds it
+    // unlinked after its flock() succeeds and retries on a fresh file (still_linked above). A file
+    // that is no longer ours (ours was removed, another took its name) is left alone.
+    if (still_linked(fd_, path_)) ::unlink(path_.c_str());
+    ::close(fd_);  // closing the last descriptor releases the flock
+    fd_ = -1;
+  }
+}
+
+void FolderLock::check_held() const {
+  if (fd_ < 0 || still_linked(fd_, path_)) return;
+  std::error_code ec;
+  throw FolderLockLost(fmt::format("output folder '{}': the lock file {} this process holds was {} while it ran, so another "
+                                   "writer may be using the folder: stopping without writing more there (the last "
+                                   "checkpoint continues the run)",
+                                   path_.parent_path().string(), kFolderLockFile,
+                                   fs::exists(path_, ec) ? "replaced" : "removed"));
 }
 
 }  // namespace capsflow::io

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/io/results_writer.hpp"
 
 namespace capsflow::io {
@@ -45,5 +46,7 @@ bool is_capsflow_output_name(const std::string& name) {
   const auto& m = output_manifest();
   return std::find(m.begin(), m.end(), name) != m.end() || is_capsflow_temporary_name(name);
 }
+
+bool is_run_folder_name(const std::string& name) { return is_capsflow_output_name(name) || name == kFolderLockFile; }
 
 }  // namespace capsflow::io

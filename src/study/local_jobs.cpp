@@ -24,16 +24,25 @@ namespace fs = std::filesystem;
 
 namespace {
 
-volatile sig_atomic_t g_stop_signal = 0;
-extern "C" void remember_stop(int sig) { g_stop_signal = sig; }
+volatile sig_atomic_t g_stop_signal = 0;       // the last SIGINT/SIGTERM received
+volatile sig_atomic_t g_stop_count = 0;        // how many were received
+volatile sig_atomic_t g_stop_from_terminal = 0;  // the last one came from the terminal (Ctrl-C)
+extern "C" void remember_stop(int sig, siginfo_t* info, void*) {
+  g_stop_signal = sig;
+  g_stop_from_terminal = info != nullptr && info->si_code == SI_KERNEL;
+  g_stop_count = g_stop_count + 1;
+}
 
 // SIGINT/SIGTERM recorded instead of ending this process while children run; restored after.
 class StopSignals {
  public:
   StopSignals() {
     g_stop_signal = 0;
+    g_stop_count = 0;
+    g_stop_from_terminal = 0;
     struct sigaction sa {};
-    sa.sa_handler = remember_stop;
+    sa.sa_sigaction = remember_stop;
+    sa.sa_flags = SA_SIGINFO;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &old_int_);
     sigaction(SIGTERM, &sa, &old_term_);
@@ -81,13 +90,25 @@ int run_local_jobs(const StudyPlan& plan, const StudyOptions& o, std::vector<Var
   std::map<pid_t, std::size_t> running;
   std::vector<std::string> errors;
   std::size_t next = 0;
-  int stop_sent = 0;
-  while (next < order.size() || !running.empty()) {
-    if (g_stop_signal && stop_sent != g_stop_signal) {  // passed on once per signal: a second one stops at once
-      for (const auto& [pid, i] : running) ::kill(pid, g_stop_signal);
-      stop_sent = g_stop_signal;
+  int signals_seen = 0;
+  // A stop request starts no new variant: the loop ends once the running ones have ended.
+  while ((!g_stop_count && next < order.size()) || !running.empty()) {
+    if (g_stop_count != signals_seen) {
+      const bool first = signals_seen == 0 && g_stop_count == 1;
+      signals_seen = g_stop_count;
+      // The first signal is passed on (a Ctrl-C reached the children already, through the
+      // terminal's process group): they write a checkpoint and stop. A second one stops them at
+      // once; their last checkpoints stay (written atomically).
+      if (!first || !g_stop_from_terminal)
+        for (const auto& [pid, i] : running) ::kill(pid, first ? static_cast<int>(g_stop_signal) : SIGKILL);
+      const bool one = running.size() == 1;
+      spdlog::warn("study: signal {} received{}: no further variant starts; {} running {}", static_cast<int>(g_stop_signal),
+                   first ? "" : " again", one ? std::string("the") : fmt::format("the {}", running.size()),
+                   first ? (one ? "variant stops with a checkpoint" : "variants stop with a checkpoint")
+                         : (one ? "variant is stopped at once, keeping its last checkpoint"
+                                : "variants are stopped at once, keeping their last checkpoints"));
     }
-    while (!g_stop_signal && next < order.size() && running.size() < static_cast<std::size_t>(o.jobs)) {
+    while (!g_stop_count && next < order.size() && running.size() < static_cast<std::size_t>(o.jobs)) {
       const std::size_t i = order[next++];
       running[start_process(variant_command(exe, o, plan.variants[i].name, threads))] = i;
       records[i].state = VariantState::Running;
@@ -104,7 +125,10 @@ int run_local_jobs(const StudyPlan& plan, const StudyOptions& o, std::vector<Var
     const Variant& v = plan.variants[i];
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
     records[i] = read_variant_record(v, o.dir / v.name);
-    if (code != 0 && code != 3 && records[i].state != VariantState::Interrupted) {
+    // Stopped by the request (exit 130, or killed after a second signal): its folder says where it
+    // stands — interrupted with a checkpoint, or pending when it had written none.
+    const bool stopped = g_stop_count && (code == 130 || WIFSIGNALED(status));
+    if (code != 0 && code != 3 && !stopped && records[i].state != VariantState::Interrupted) {
       records[i].state = VariantState::Error;
       records[i].note = fmt::format("exit {} (its message is above)", code);
       errors.push_back(fmt::format("variant {}: exit {}", v.name, code));
@@ -116,7 +140,7 @@ int run_local_jobs(const StudyPlan& plan, const StudyOptions& o, std::vector<Var
                  records[i].state == VariantState::Failed ? " (" + records[i].result->stop.to_string() + ")" : std::string(),
                  running.size(), left);
   }
-  if (g_stop_signal) {
+  if (g_stop_count) {
     spdlog::warn("study: interrupted; run the same command again to continue the variants from their checkpoints");
     return 130;
   }

@@ -231,8 +231,8 @@ int run_study(const StudyOptions& o) {
     write_reports(plan, records, o.dir, o.command_line);  // what did finish stays analysed
     throw;
   }
+  write_reports(plan, records, o.dir, o.command_line);  // interrupted too: each variant's state as its folder says
   if (code == 130) return code;
-  write_reports(plan, records, o.dir, o.command_line);
   return done(plan, records, o.dir);
 }
 

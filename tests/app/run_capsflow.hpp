@@ -1,11 +1,13 @@
 #pragma once
 // Helpers of the end-to-end tests that run the capsflow executable (CAPSFLOW_EXE): a scratch
-// folder per test process, `capsflow run` with its output in DIR.log, and readers of summary.json
-// and timeseries.csv.
+// folder per test process, `capsflow run` with its output in DIR.log, readers of summary.json
+// and timeseries.csv, and a process in the background with a bounded wait for it.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace capsflow_test {
@@ -87,6 +90,42 @@ struct TempDir {
   }
   ~TempDir() { fs::remove_all(path); }
 };
+
+// `capsflow ARGS` started in the background, stdout and stderr in LOG; its pid.
+inline pid_t spawn(const std::string& args, const fs::path& log) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string cmd = "exec " + std::string(CAPSFLOW_EXE) + " " + args + " > '" + log.string() + "' 2>&1";
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Waits up to `seconds` for `pid`; its exit code (128 + the signal that ended it), or -1 after
+// killing it with SIGKILL (a hang).
+inline int wait_or_kill(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < end) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return -1;
+}
+
+// Waits up to `seconds` until `ready()`; whether it became true.
+template <class Ready>
+bool wait_until(Ready ready, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (!ready()) {
+    if (std::chrono::steady_clock::now() >= end) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return true;
+}
 
 inline void remove_run(const fs::path& p) {
   fs::remove_all(p);

@@ -529,3 +529,32 @@ TEST(Cli, CountsBeyondTheBoundAreRefusedByInfoAndOnARestart) {
             std::string::npos) << r.err;
   EXPECT_EQ(snapshot(out), before);  // refused before anything is written
 }
+
+TEST(Cli, AThreadCountTheMachineCannotTakeIsRefusedBeforeAnyFolderIsLocked) {
+  // libgomp cannot report a thread it fails to start: it prints "Thread creation failed" and
+  // calls exit(1), after the run had locked its folder. Under a 4 GB address-space limit, 4096
+  // threads (8 MB stacks: 32 GB) did exactly that.
+  TempDir d;
+  const fs::path out = d.path / "out";
+  const std::string scene = " --set mesh.level=1 --set wall.model=membrane --set time.t_end=0.02 -o " + out.string();
+  const std::string limited = "sh -c 'ulimit -v 4000000; exec " + std::string(CAPSFLOW_EXE) + " ";
+  for (const std::string command : {"run", "study --levels 1"}) {
+    const Result r = run(limited + command + " --threads 4096" + scene + "'", d.path, false);
+    EXPECT_EQ(r.code, 1) << command << ": " << r.out << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << command << ": " << r.err;
+    // The bound: 4 × the hardware threads (driver/thread_count.hpp), whatever this machine has.
+    EXPECT_NE(r.err.find("capsflow: error: --threads 4096: more than 4 × the "), std::string::npos) << command << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << command << ": refused before the folder was created and locked";
+  }
+  // Within that bound on any machine (3 ≤ 4 × 1), but with thread stacks of 2 GB (`ulimit -s`, the
+  // default stack of a new thread) under the same limit, at most one more thread fits: the check
+  // starts the threads first and finds that.
+  const Result r = run("sh -c 'ulimit -v 4000000; ulimit -s 2000000; exec " + std::string(CAPSFLOW_EXE) + " run --threads 3" +
+                           scene + "'",
+                       d.path, false);
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("capsflow: error: --threads 3: only "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" of 3 threads could be started here"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}

@@ -9,6 +9,8 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <string>
 #include <thread>
 
@@ -38,6 +40,7 @@ class Background {
   }
   ~Background() { stop(); }
   pid_t pid() const { return pid_; }
+  void forget() { pid_ = -1; }  // reaped by the test itself
   int stop(int signal = SIGTERM) {
     if (pid_ <= 0) return status_;
     ::kill(pid_, signal);
@@ -144,6 +147,65 @@ TEST(OneWriter, TheLockOfAKilledRunIsTakenOverAndItsFirstCheckpointContinues) {
   EXPECT_EQ(again.code, 0) << again.out;
   EXPECT_NE(again.out.find("took over the lock file of pid " + std::to_string(killed)), std::string::npos) << again.out;
   EXPECT_FALSE(fs::exists(run / ".capsflow.lock"));
+}
+
+}  // namespace
+
+namespace {
+
+TEST(OneWriter, ARemovedLockFileLetsNoSecondWriterInAndStopsTheRunThatHeldIt) {
+  TempDir d;
+  const fs::path run = d.path / "run";
+  // Outputs and checkpoints only at t_end (γ̇t = 50): the run writes nothing more until SIGTERM
+  // makes it finish, so the second writer below meets it still running.
+  Background first(kLongRun + " --set output.every=50 --set output.checkpoint_every=50 -o " + run.string(),
+                   d.path / "first.log");
+  ASSERT_TRUE(wait_for_lock(run / ".capsflow.lock")) << slurp(d.path / "first.log");
+  ASSERT_TRUE(wait_for_file(run / "checkpoint.h5")) << slurp(d.path / "first.log");  // set-up done
+  const auto files = [&] {  // each file's name and a hash of its bytes (readable when they differ)
+    std::map<std::string, std::size_t> f;
+    for (const auto& e : fs::directory_iterator(run)) f[e.path().filename().string()] = std::hash<std::string>{}(slurp(e.path()));
+    return f;
+  };
+  fs::remove(run / ".capsflow.lock");
+  const auto before = files();
+  const auto second = capsflow(kShortRun + " --overwrite -o " + run.string(), d.path);
+  EXPECT_EQ(second.code, 1) << second.out;
+  EXPECT_NE(second.out.find("is in use by another capsflow process, whose lock file .capsflow.lock was removed while it ran"),
+            std::string::npos)
+      << second.out;
+  EXPECT_EQ(files(), before) << "the refused writer changed the folder";
+  // The holder notices at its next write (here the last ones, at the end): exit 1, one line,
+  // nothing more written — no summary.json, the checkpoint as it was.
+  EXPECT_EQ(first.stop(), 1) << slurp(d.path / "first.log");
+  const std::string log = slurp(d.path / "first.log");
+  EXPECT_NE(log.find("capsflow: error: output folder '" + run.string() +
+                     "': the lock file .capsflow.lock this process holds was removed while it ran"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(files(), before);
+  // Its checkpoint continues the run.
+  const auto again = capsflow("run --restart " + run.string() + " --set time.t_end=0.05", d.path);
+  EXPECT_EQ(again.code, 0) << again.out;
+
+  // A run with outputs every few steps notices at the next one, and stops.
+  const fs::path busy = d.path / "busy";
+  Background writing(kLongRun + " --set output.every=0.01 -o " + busy.string(), d.path / "writing.log");
+  ASSERT_TRUE(wait_for_file(busy / "checkpoint.h5")) << slurp(d.path / "writing.log");
+  fs::remove(busy / ".capsflow.lock");
+  const pid_t pid = writing.pid();
+  int status = 0;
+  bool ended = false;
+  for (int i = 0; i < 600 && !ended; ++i) {  // 60 s bound a run that never notices (minutes of work left)
+    ended = ::waitpid(pid, &status, WNOHANG) == pid;
+    if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_TRUE(ended) << slurp(d.path / "writing.log");
+  writing.forget();
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << slurp(d.path / "writing.log");
+  EXPECT_NE(slurp(d.path / "writing.log").find("this process holds was removed while it ran"), std::string::npos)
+      << slurp(d.path / "writing.log");
+  EXPECT_FALSE(fs::exists(busy / "summary.json"));
 }
 
 }  // namespace

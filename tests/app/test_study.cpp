@@ -303,3 +303,32 @@ TEST(Study, TwoJobsAtOnceGiveTheSequentialStudysResults) {
   EXPECT_NE(both.out.find("--jobs: only with --scheduler local"), std::string::npos) << both.out;
   EXPECT_FALSE(fs::exists(d.path / "x"));
 }
+
+TEST(Study, ASignalToAStudyWithJobsStopsItsRunningVariantsRecordsThemAndExits130) {
+  // Three levels, two at a time, each variant tens of seconds long (γ̇t = 50): when the finest two
+  // run, the coarsest is still waiting. SIGINT must start nothing more, let the two stop with their
+  // checkpoints, record them in study.json and end the study with 130 — not wait for ever for the
+  // variant it will not start.
+  TempDir d;
+  const fs::path out = d.path / "s";
+  const pid_t pid = capsflow_test::spawn("study --levels 1,2,3 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.2 "
+                                         "--set time.t_end=50 --jobs 2 --threads 2 -o " + out.string(),
+                                         d.path / "study.log");
+  // Both children have written their first checkpoint: their set-up is over, the runs step.
+  const bool started = capsflow_test::wait_until(
+      [&] { return fs::exists(out / "L3" / "checkpoint.h5") && fs::exists(out / "L2" / "checkpoint.h5"); }, 120);
+  if (!started) ::kill(pid, SIGKILL);
+  ASSERT_TRUE(started) << slurp(d.path / "study.log");
+  ::kill(pid, SIGINT);
+  // The children stop within a step (well under a second at these levels); 60 s bounds a hang.
+  ASSERT_EQ(capsflow_test::wait_or_kill(pid, 60), 130) << slurp(d.path / "study.log");
+  const nlohmann::json sj = json_of(out / "study.json");
+  std::map<std::string, std::string> state;
+  for (const auto& v : sj["variants"]) state[v["name"].get<std::string>()] = v["state"].get<std::string>();
+  EXPECT_EQ(state["L1"], "pending") << sj["variants"].dump();
+  EXPECT_EQ(state["L2"], "interrupted") << sj["variants"].dump();
+  EXPECT_EQ(state["L3"], "interrupted") << sj["variants"].dump();
+  for (const char* v : {"L2", "L3"}) EXPECT_EQ(json_of(out / v / "summary.json")["stop_reason"], "interrupted") << v;
+  EXPECT_FALSE(fs::exists(out / "L1")) << "a variant was started after the signal";
+  EXPECT_FALSE(fs::exists(out / ".capsflow.lock")) << "the study released its folder";
+}

@@ -15,6 +15,8 @@ import json
 import math
 import os
 import signal
+import subprocess
+import sys
 import threading
 from pathlib import Path
 
@@ -370,3 +372,115 @@ def test_the_log_is_the_command_lines_or_silent(capfd, tmp_path):
     assert capfd.readouterr().out == ""
     capsflow.run(small_scene(), tmp_path / "loud again")  # the level is restored after log=False
     assert "stopped: t_end" in capfd.readouterr().out
+
+
+def test_the_progress_callback_cannot_reenter_the_run(tmp_path):
+    # A callback that finishes the run it reports on (even guarded by `not sim.finished`, which is
+    # still False while finish() runs) called finish() from finish()'s own closing status line,
+    # again and again: a RecursionError, or (with a higher recursion limit, or deeper frames) a
+    # segfault mid-checkpoint that left checkpoint.h5.tmp.PID behind. It runs in a child
+    # interpreter, so that a crash fails this test and no other.
+    script = f"""
+import capsflow
+scene = capsflow.Scene().set("mesh.level", 2).set("time.t_end", 0.3)
+sim = None
+def finish_from_the_callback(p):
+    if not sim.finished:
+        sim.finish()
+sim = capsflow.Simulation(scene, {str(tmp_path / 'out')!r}, progress=finish_from_the_callback, progress_interval=0,
+                          threads=1, log=False)
+try:
+    while sim.step() is None:
+        pass
+    print("step: no error")
+except RuntimeError as e:
+    print("step:", e)
+try:
+    sim.finish()
+    print("finish: no error")
+except RuntimeError as e:
+    print("finish:", e)
+print("finished:", sim.finished, sim.stop_reason)
+"""
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, f"exit {p.returncode}\n{p.stdout}\n{p.stderr}"
+    refusal = "finish() cannot be called from the progress callback"
+    lines = p.stdout.splitlines()
+    # The callback of step 1 is refused; that exception stops the run as interrupted (as any
+    # exception of the callback does) and step() raises it.
+    assert lines[0].startswith("step: " + refusal), p.stdout
+    # finish() then completes the folder; the callback of its closing line is refused too, and
+    # that refusal is raised once the folder is complete.
+    assert lines[1].startswith("finish: " + refusal), p.stdout
+    assert lines[2] == "finished: True interrupted", p.stdout
+    s = summary(tmp_path / "out")
+    assert s["stop_reason"] == "interrupted" and s["steps"] == 1
+    capsflow.read_run(tmp_path / "out")  # the folder reads back
+    assert sorted(f.name for f in (tmp_path / "out").iterdir() if ".tmp." in f.name) == []
+
+
+def test_a_checkpoint_never_replaces_the_runs_own_files_nor_writes_into_a_locked_folder(tmp_path):
+    own = tmp_path / "ck"
+    with capsflow.Simulation(small_scene(), own, threads=1, log=False) as sim:
+        assert sim.step() is None
+        before = {f.name: f.read_bytes() for f in own.iterdir()}
+        # Every name the run writes (or holds: the lock file), given directly, relatively and
+        # through a symbolic link to the folder: refused, nothing written.
+        (tmp_path / "link").symlink_to(own)
+        names = ("run.h5", "run.xmf", "timeseries.csv", "summary.json", "checkpoint.h5", "checkpoint.prev.h5",
+                 ".capsflow.lock")
+        for name in names:
+            for path in (own / name, os.path.relpath(own / name), tmp_path / "link" / name):
+                with pytest.raises(ValueError, match=f"^checkpoint path '.*' is this run's own {name} in "):
+                    sim.checkpoint(path)
+        assert {f.name: f.read_bytes() for f in own.iterdir()} == before
+        # Another run's folder, locked while that run lives (here in this process: the lock is
+        # per open file, so this run's probe sees it as any other process's).
+        other = capsflow.Simulation(small_scene(), tmp_path / "other", threads=1, log=False)
+        with pytest.raises(OSError, match=f"^checkpoint path '.*mine.h5': its folder .* is in use by pid {os.getpid()} "):
+            sim.checkpoint(tmp_path / "other" / "mine.h5")
+        assert not (tmp_path / "other" / "mine.h5").exists()
+        other.finish()  # releases its folder
+        # Names of the user's own are the user's to choose.
+        sim.checkpoint(own / "mine.h5")
+        sim.checkpoint(tmp_path / "other" / "mine.h5")
+        while sim.step() is None:
+            pass
+    assert sim.result.stop_reason == "t_end"
+    for path in (own / "mine.h5", tmp_path / "other" / "mine.h5"):
+        assert capsflow.run(None, tmp_path / ("from-" + path.parent.name), restart=path, log=False).stop_reason == "t_end"
+
+
+def test_a_thread_count_the_machine_cannot_take_is_a_value_error_not_the_end_of_the_interpreter(tmp_path):
+    # libgomp cannot report a thread it fails to start: it prints "Thread creation failed" and
+    # calls exit(1), ending the interpreter. Under a 4 GB address-space limit, 4096 threads (8 MB
+    # stacks: 32 GB) did that; the count is now refused first (at most 4 × the hardware threads,
+    # docs/scene-and-output.md §1), before the folder is created. In a child interpreter, which
+    # has the limit (and would die, not this one).
+    out = tmp_path / "out"
+    script = f"""
+import numpy as np
+import capsflow
+scene = capsflow.Scene().set("mesh.level", 1).set("time.t_end", 0.02)
+for call in (lambda: capsflow.Simulation(scene, {str(out)!r}, threads=4096, log=False),
+             lambda: capsflow.run(scene, {str(out)!r}, threads=4096, log=False),
+             lambda: capsflow.fmm.stokeslet_direct(np.zeros((2, 3)) + [[0, 0, 0], [1, 0, 0]], np.ones((2, 3)), threads=4096)):
+    try:
+        call()
+        print("no error")
+    except ValueError as e:
+        print("ValueError:", e)
+"""
+    import resource
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, resource.RLIM_INFINITY))
+
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300, preexec_fn=limit, env=env)
+    assert p.returncode == 0, f"exit {p.returncode}\n{p.stdout}\n{p.stderr}"
+    lines = p.stdout.splitlines()
+    assert len(lines) == 3, p.stdout
+    for line in lines:
+        assert line.startswith("ValueError: threads = 4096: more than 4 × the "), p.stdout
+    assert not out.exists()

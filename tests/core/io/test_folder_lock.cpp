@@ -108,6 +108,39 @@ TEST(FolderLock, TheLockFileDoesNotMakeAFolderNonEmpty) {
   EXPECT_TRUE(p.kept.empty());  // the lock is not reported as a user file
 }
 
+// A lock file removed under its holder (rm, a clean-up script) once let the next writer create a
+// fresh one and lock it: two writers in one folder, neither aware of the other.
+TEST(FolderLock, ARemovedLockFileLetsNoSecondWriterInAndItsHolderNoticesIt) {
+  namespace fs = std::filesystem;
+  TempDir dir;
+  FolderLock first = FolderLock::acquire(dir.path(), "run");
+  EXPECT_NO_THROW(first.check_held());
+  fs::remove(dir / kFolderLockFile);
+  try {
+    FolderLock second = FolderLock::acquire(dir.path(), "run");
+    FAIL() << "the second writer was let in";
+  } catch (const FolderBusy& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("is in use by another capsflow process, whose lock file .capsflow.lock was removed while it ran"),
+              std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line";
+  }
+  EXPECT_FALSE(fs::exists(dir / kFolderLockFile)) << "the refused writer left a lock file";
+  try {
+    first.check_held();
+    FAIL() << "the holder did not notice";
+  } catch (const FolderLockLost& e) {
+    EXPECT_NE(std::string(e.what()).find(".capsflow.lock this process holds was removed while it ran"), std::string::npos)
+        << e.what();
+  }
+  // Replaced by another file of that name: noticed too (another inode), and left alone on release.
+  write_text(dir / kFolderLockFile, "not yours");
+  EXPECT_THROW(first.check_held(), FolderLockLost);
+  first.release();
+  EXPECT_EQ(read_text(dir / kFolderLockFile), "not yours");
+  EXPECT_NO_THROW(FolderLock::acquire(dir.path(), "run"));  // released: the folder is free again
+}
+
 TEST(FolderLock, RefusesAPathThatIsAFile) {
   TempDir dir;
   write_text(dir / "f", "x");

@@ -40,6 +40,8 @@ class Simulation {
   // The last output (unless the state was just written), the checkpoint, summary.json and the
   // closing log; releases the folder's lock (another run may continue it while this object is still
   // read); returns the exit code of the stop reason (t_end if the run was not stopped).
+  // step() and finish() throw io::FolderLockLost before writing into a folder whose lock file was
+  // removed or replaced under the run (io/folder_lock.hpp): the run ends there.
   int finish();
   // set_up, step until a stop, finish.
   int run();
@@ -62,7 +64,9 @@ class Simulation {
   const HealthMonitor& health() const;
   std::optional<StopReason> stop_reason() const;
   // A checkpoint of the current state at `path` (the run's own checkpoint.h5 is written by the
-  // loop and by finish()); a run restarts from it with --restart.
+  // loop and by finish()); a run restarts from it with --restart. Refused (one line naming the
+  // path, nothing written): one of this run's own files (io/manifest.hpp: run.h5, checkpoint.h5,
+  // the lock file, ...) — std::invalid_argument; a folder another run holds locked — io::FolderBusy.
   void write_checkpoint(const std::filesystem::path& path);
 
  private:

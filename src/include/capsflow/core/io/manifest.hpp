@@ -19,4 +19,8 @@ bool is_capsflow_temporary_name(const std::string& file_name, long* pid = nullpt
 // A manifest name or one of its leftovers.
 bool is_capsflow_output_name(const std::string& file_name);
 
+// A name a running run owns in its folder: a manifest name, one of its leftovers, or the folder's
+// lock file (io/folder_lock.hpp). Nothing else may be written there under these names.
+bool is_run_folder_name(const std::string& file_name);
+
 }  // namespace capsflow::io

@@ -10,8 +10,13 @@
 //
 // Each variant is the same run as in a sequential study (capsflow's results do not depend on the
 // thread count), and the study files are written from the folders in plan order, so they are
-// identical to a sequential study's apart from wall times. SIGINT/SIGTERM are passed on to the
-// children, which stop with a checkpoint (exit 130).
+// identical to a sequential study's apart from wall times.
+//
+// SIGINT/SIGTERM: no further variant starts; the signal is passed on to the running children
+// (unless it came from the terminal, which signalled them itself), which stop with a checkpoint
+// (exit 130); once they have ended, their states are read from their folders (interrupted, or
+// pending without a checkpoint), study.json is written and the study exits 130. A second signal
+// stops the children at once (SIGKILL): their last checkpoints, written atomically, stay.
 #include <vector>
 
 #include "capsflow/core/study/study_runner.hpp"
