@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compute the ROCK4-family coefficient table of src/stepping/rock4_table.inc (docs/time-integration.md §5.9).
+"""Compute the ROCK4-family coefficient table of src/stepping/rock4_table.inc (docs/time-integration.md §5.8).
 
     scripts/rock4_coefficients.py --max-stages 152 --out src/stepping/rock4_table.inc   (~30 min, one core)
 

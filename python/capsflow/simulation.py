@@ -198,7 +198,7 @@ class Simulation:
         stopped as 'interrupted' (finish(), or leaving the `with` block, writes its checkpoint).
         With time.tolerance = "auto" (the default), the step after which the wall creases at the
         mesh scale starts the run again from t = 0 at the tight tolerance: `t` goes back once
-        (docs/time-integration.md §5.8)."""
+        (docs/time-integration.md §5.3)."""
         self._check_open()
         with _log(self._log):
             reason = self._sim.step()

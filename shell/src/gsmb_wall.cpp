@@ -27,7 +27,7 @@ constexpr double kGeometricFloor = 0.9, kSafeGeometricFloor = 0.5;
 constexpr double kStalledCg = 0.5;
 // The pass's loops hand out elements and nodes in chunks of this many: with equal static halves the
 // two halves did not take equal time (the wall phase at 81 920 elements: cpu/wall 1.71 against 1.80
-// in chunks; perf/RESULTS.md §6.7). Every iteration writes only its own record and the only
+// in chunks; perf/RESULTS.md §1.1). Every iteration writes only its own record and the only
 // reduction is a maximum, so the results do not depend on which thread took which chunk.
 constexpr int kPassChunk = 256;
 }  // namespace

@@ -85,7 +85,7 @@ int info_command(const InfoOptions& opt) {
   auto wall = [&](double evals) {
     return std::isfinite(seconds_per_eval) ? fmt::format(", ~{:.0f} s", evals * seconds_per_eval) : std::string();
   };
-  fmt::print("time scheme     {} ({}; docs/time-integration.md §5.12)\n", r["scheme"].get<std::string>(),
+  fmt::print("time scheme     {} ({}; docs/time-integration.md §5.2)\n", r["scheme"].get<std::string>(),
              r["time_plan"]["reason"].get<std::string>());
   auto count = [](double steps) {
     return steps < 1e15 ? fmt::format("{:.0f}", steps)

@@ -1,5 +1,5 @@
 // What the run does where the wall creases at the mesh scale: the time plan's CreaseAction
-// (stepping/time_plan.hpp, docs/time-integration.md §5.8 and §5.11). The creases are the health
+// (stepping/time_plan.hpp, docs/time-integration.md §5.3 and §5.4). The creases are the health
 // monitors' grid-scale folding with facet angles above kAutoToleranceCreaseDeg.
 //   Loosen  from the step that first sees them, the plan's looser crease_tolerance: once formed,
 //           creases no longer amplify the error.
@@ -45,7 +45,7 @@ void Simulation::Impl::follow_tolerance_in_force() {
                         "amplify the error", health->last().roughness.facet_angle_max)
       : st.rewind ? fmt::format("past the creases, seen at {:.3g} in the discarded pass", st.rewind->t)
                   : std::string("the wall creases at the mesh scale");
-  spdlog::info("γ̇t = {:.3g}: {}: time.tolerance goes from {:g} to {:g} (docs/time-integration.md §5.8, §5.11)", st.t, why,
+  spdlog::info("γ̇t = {:.3g}: {}: time.tolerance goes from {:g} to {:g} (docs/time-integration.md §5.3, §5.4)", st.t, why,
                stepper_tolerance, tol);
   stepper_tolerance = tol;
 }
@@ -55,14 +55,14 @@ bool Simulation::Impl::rewind_to_start() {
   if (restart.new_folder) {  // this folder starts at the checkpoint: its beginning is the parent run's
     spdlog::warn("the wall creases at the mesh scale at γ̇t = {:.3g}: the tolerance tightens to {:g} from here on, but this run "
                  "folder continues a checkpoint of γ̇t = {:g}, so its start was integrated at {:g}; for D_ij within 1e-4 "
-                 "throughout, run from t = 0 (docs/time-integration.md §5.8)",
+                 "throughout, run from t = 0 (docs/time-integration.md §5.3)",
                  st.t, plan.crease_tolerance, t_segment_start, plan.tolerance);
     return false;
   }
   const AutoToleranceRewind discarded{st.t, st.step, rhs_evaluations(), wall_seconds()};
   spdlog::warn("the wall creases at the mesh scale at γ̇t = {:.3g} (facet angles up to {:.0f}°): the run starts again from "
                "t = 0 at time.tolerance {:g} up to γ̇t = {:.3g} and {:g} after, since the error made before the folds is "
-               "amplified while they form (docs/time-integration.md §5.8); {} steps, {} evaluations and {:.1f} s are discarded",
+               "amplified while they form (docs/time-integration.md §5.3); {} steps, {} evaluations and {:.1f} s are discarded",
                discarded.t, health->last().roughness.facet_angle_max, plan.crease_tolerance, discarded.t, plan.tolerance,
                discarded.steps, discarded.evaluations, discarded.seconds);
   // Everything a fresh run would start with; the run's cost so far stays counted.

@@ -58,7 +58,7 @@ void Simulation::Impl::choose_time_plan(const io::CheckpointState& ck) {
     const auto extra = nlohmann::json::parse(ck.extra);
     if (restart_keeps_time_plan(parse_scene(ck.scene_toml, "checkpoint"), scene)) {
       plan = TimePlan::from_json(extra.at("time_plan"));
-      plan.reason = "kept from the checkpoint: " + plan.reason;
+      plan_from_checkpoint = true;
       return;
     }
   }
@@ -216,7 +216,8 @@ void Simulation::Impl::log_set_up() const {
   if (restart.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path.string());
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
   if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
-  spdlog::info("time scheme: {} ({}; docs/time-integration.md §5.12)", to_string(plan.scheme), plan.reason);
+  spdlog::info("time scheme: {} ({}{}; docs/time-integration.md §5.2)", to_string(plan.scheme),
+               plan_from_checkpoint ? "kept from the checkpoint: " : "", plan.reason);
 }
 
 }  // namespace capsflow

@@ -136,6 +136,7 @@ struct Simulation::Impl {
 
   std::unique_ptr<CapsuleDynamics> dyn;    // the right-hand side
   TimePlan plan;                           // how the run is stepped (stepping/time_plan.hpp)
+  bool plan_from_checkpoint = false;       // a restart kept its checkpoint's plan
   std::unique_ptr<TimeStepper> stepper;    // the plan's scheme
   std::unique_ptr<io::ResultsWriter> out;
   std::unique_ptr<SteadyStateDetector> steady;

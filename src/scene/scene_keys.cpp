@@ -210,32 +210,32 @@ const Section<FlowSpec>& flow_keys() {
 const Section<TimeSpec>& time_keys() {
   static const Section<TimeSpec> s{
       "time", &Scene::time,
-      {choice("scheme", &TimeSpec::scheme, TimeScheme::Auto, "Heun at the stability-limited step (§5.1–5.2), damped RKC2 with error control "
-                   "(`docs/time-integration.md` §5.7), or `\"rock4\"`: a fourth-order stabilised scheme with error "
-                   "control (§5.9); `\"auto\"`: with `dt = \"auto\"`, ROCK4 where the wall's analytic spectral radius on the "
+      {choice("scheme", &TimeSpec::scheme, TimeScheme::Auto, "Heun at the stability-limited step (§5.5, §5.9), damped RKC2 with error control "
+                   "(`docs/time-integration.md` §5.6), or `\"rock4\"`: a fourth-order stabilised scheme with error "
+                   "control (§5.8); `\"auto\"`: with `dt = \"auto\"`, ROCK4 where the wall's analytic spectral radius on the "
                    "reference mesh is below 800 flow rates (soft for its mesh: accuracy sets the step) and RKC2 "
-                   "above (stability does), with a fixed `dt` RKC2 (§5.12; the log and `capsflow info` say which)"),
-       time_tolerance("RKC: local error per step, RMS over nodes, in units of ℓ (§5.7); `\"auto\"`: 1e-5, and if the "
+                   "above (stability does), with a fixed `dt` RKC2 (§5.2; the log and `capsflow info` say which)"),
+       time_tolerance("RKC: local error per step, RMS over nodes, in units of ℓ (§5.6); `\"auto\"`: 1e-5, and if the "
                       "wall creases at the mesh scale the run starts again from t = 0 at 5e-7 up to the creases, 1e-5 "
-                      "after (§5.8; keeps D_ij within 1e-4 of the time-converged result on the paper's cases); with ROCK4 the "
+                      "after (§5.3; keeps D_ij within 1e-4 of the time-converged result on the paper's cases); with ROCK4 the "
                       "estimate is that of its embedded third-order solution with the grid-scale modes filtered out, and "
                       "`\"auto\"` is 2e-3 × 1280/N for N elements (a plain membrane: 2e-3 × (1280/N)^(8/3)) from "
-                      "t = 0, and 2e-3 (or that value, if looser) once the run sees the wall crease, no rewind (§5.9–5.11)"),
+                      "t = 0, and 2e-3 (or that value, if looser) once the run sees the wall crease, no rewind (§5.8, §5.4)"),
        time_dt("fixed step; `\"auto\"`: Heun takes `dt_safety` × the stability limit recomputed every step "
-               "(`docs/time-integration.md` §5.2), RKC its error-controlled step; a fixed step may need at most " +
+               "(`docs/time-integration.md` §5.9), RKC its error-controlled step; a fixed step may need at most " +
                    number_text(kMaxSteps) + " steps to `t_end`"),
        // 0.8: the calibrated limit is a measured bound with 18 % to spare on the worst calibration case
-       // (c_m = 1.15 measured against 1.4 used, docs/time-integration.md §5.2.3); above, a step is no
+       // (c_m = 1.15 measured against 1.4 used, docs/time-integration.md §5.9.3); above, a step is no
        // longer known to be stable (dt_safety = 1.4 loses 3 % of the volume and half of D13). 1e-3
        // takes 700× the steps of the default for no stability to gain: below it (1e-300 was
        // accepted) the count of an automatic step, unknown when the scene is read, is unbounded.
        number("dt_safety", &TimeSpec::dt_safety, 0.7,
               closed(1e-3, 0.8).because("0.8: the largest fraction of the calibrated limit measured stable"),
               "Heun: fraction of the limit used by `\"auto\"`; 0.8 is the largest fraction measured stable on the "
-              "calibration cases (§5.2.3)"),
+              "calibration cases (§5.9.3)"),
        number("t_end", &TimeSpec::t_end, 5.0, above(0.0), "final γ̇t"),
        boolean("stop_at_steady", &TimeSpec::stop_at_steady, false,
-               "stop when the steady-state test holds (`docs/time-integration.md` §5.4)"),
+               "stop when the steady-state test holds (`docs/time-integration.md` §5.11)"),
        number("steady_tol", &TimeSpec::steady_tol, 5e-4, above(0.0), "area change over γ̇t = 1, relative to 4πℓ²"),
        choice_list("stop_on", &TimeSpec::stop_on,
                    "stop (exit 3, `stop_reason` = the name) when one of these health conditions begins "
@@ -264,7 +264,7 @@ const Section<FluidSpec>& fluid_keys() {
               "(3 per node) and three Gauss points per element on curved ones (6 per node); `\"gauss_points\"` on flat "
               "facets is the former 6-per-node far field, kept to measure the edge-midpoint rule against it"),
        boolean("volume_correction", &FluidSpec::volume_correction, true,
-               "remove the discrete net flux at every stage (`docs/time-integration.md` §5.3)"),
+               "remove the discrete net flux at every stage (`docs/time-integration.md` §5.10)"),
        integer("fmm_order", &FluidSpec::fmm_order, bie.fmm_order,
                closed(lowest, highest).or_value(0).because("0: the order follows from fluid.tolerance"),
                "0: the FMM order follows from `tolerance` (`fmm/calibration.hpp`); otherwise that order is forced (to "

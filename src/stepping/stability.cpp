@@ -27,7 +27,7 @@ StabilityEstimate stability_estimate(const Scene& s, double dx) {
   StabilityEstimate e;
   const double ca = s.flow.ca_s;
   // The mesh-scale modes see a locally flat wall, where the double layer vanishes: their
-  // relaxation rates are 2/(1 + λ) times those at λ = 1 (docs/time-integration.md §5.2.4).
+  // relaxation rates are 2/(1 + λ) times those at λ = 1 (docs/time-integration.md §5.9.4).
   const double viscosity = 0.5 * (1.0 + s.fluid.viscosity_ratio);
   e.membrane = viscosity * kMembraneConstant / (1.0 + area_to_shear_modulus_ratio(s)) * ca * dx;
   e.bending = std::numeric_limits<double>::infinity();

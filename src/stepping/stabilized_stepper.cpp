@@ -95,7 +95,7 @@ double StabilizedStepper::rms(const Points& v) const {
 
 void StabilizedStepper::refresh_rho(RightHandSide& f, const Points& x) {
   // λ ≠ 1: after a rejected step the probes would be differenced against the discarded state's
-  // second-kind solve, and σ came out 10–240× too large (docs/time-integration.md §5.10).
+  // second-kind solve, and σ came out 10–240× too large (docs/time-integration.md §5.8).
   if (probe_base_elsewhere_ && f.probes_difference_against_last_evaluation()) {
     f.evaluate(x, f0_, {EvaluationHint::Role::Trajectory, 0});
     ++rho_evaluations_;

@@ -56,7 +56,7 @@ TEST(RunHealth, VolumeDriftBeyondTheLimitIsARunaway) {
   EXPECT_EQ(check_health(m, m.vertices, -0.9e-3, blow_up_drift(true)), "");
   EXPECT_EQ(check_health(m, m.vertices, 2e-3, blow_up_drift(true)), "volume drift 0.002 exceeds 0.001 (runaway)");
   EXPECT_NE(check_health(m, m.vertices, std::nan(""), blow_up_drift(true)), "");  // NaN is not healthy
-  // Without the volume correction only 5 % counts (docs/time-integration.md §5.3).
+  // Without the volume correction only 5 % counts (docs/time-integration.md §5.10).
   EXPECT_EQ(check_health(m, m.vertices, 2e-3, blow_up_drift(false)), "");
   EXPECT_NE(check_health(m, m.vertices, 0.06, blow_up_drift(false)), "");
 }

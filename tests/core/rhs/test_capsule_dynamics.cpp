@@ -297,7 +297,7 @@ TEST(Dynamics, AProbeLeavesTheViscosityRatioWarmStartAlone) {
   EXPECT_GT(iterations_at(dyn, x, EvaluationHint::Role::Trajectory), 0);
 }
 
-// The RKC stage predictor (docs/time-integration.md §5.7, docs/shell.md §2.4): stages m ≥ 2 start
+// The RKC stage predictor (docs/time-integration.md §5.6, docs/shell.md §2.4): stages m ≥ 2 start
 // their rotation solve from the combination of earlier stages' solutions that the scheme names,
 // instead of from the last stage's. Control: the same run with the predictor off. It must save
 // Newton steps there, and change nothing beyond the rotation solve's tolerance.
@@ -356,7 +356,7 @@ TEST(Dynamics, RkcStagePredictorSavesNewtonStepsAndChangesResultsOnlyWithinTheSo
   EXPECT_GT(n_without, 1.6) << n_without;  // the control: the last stage's solution is a poorer start
   // Both runs solve the rotations to 1e-10 rad, and the positions agree to far below that (measured
   // 4.8e-12 here; D_ij within 3.4e-10 on the Fig. 4 case at 5 120 elements to γ̇t = 5, through its
-  // folds: perf/RESULTS.md §6.5).
+  // folds: perf/RESULTS.md §1.2).
   EXPECT_LT((with.x - without.x).cwiseAbs().maxCoeff(), 1e-9);
   std::printf("stages m >= 2: %ld, Newton steps per stage %.3f with the predictor, %.3f without; max |dx| %.1e\n",
               with.later_evaluations, n_with, n_without, (with.x - without.x).cwiseAbs().maxCoeff());

@@ -1,7 +1,7 @@
 // capsflow against the small-deformation theory (docs/small-deformation.md §8) on short, coarse
 // runs: a membrane sphere released at t = 0 into planar hyperbolic flow and simple shear at
 // Ca_s = 0.01, λ = 1. The theory is independent of the code under test (closed forms); the run's
-// relative error is O(h²) (mesh: 2–5 % at level 2, 4× less at level 3, perf/RESULTS.md §9) plus
+// relative error is O(h²) (mesh: 2–5 % at level 2, 4× less at level 3, perf/RESULTS.md §2.3) plus
 // O(Ca²) (theory: 0.05 % here).
 #include <gtest/gtest.h>
 
@@ -43,7 +43,7 @@ TEST(CapsuleSmallDeformation, SimpleShearTiltsAt45DegreesAndTankTreads) {
     // 17 % lower (25/12 against 5/2 Ca_s).
     EXPECT_NEAR(s.shape.D / e.D, 1.0, 0.06) << "t/τ = " << s.t / tau << ": D = " << s.shape.D << ", theory " << e.D;
     // θ = 45° at first order; the neglected co-rotation tilts it by O(Ca): measured 1.4° at 4τ here
-    // (GH ν_s = 0 at levels 2 and 3; NH: 1.14°), mesh-independent (perf/RESULTS.md §9).
+    // (GH ν_s = 0 at levels 2 and 3; NH: 1.14°), mesh-independent (perf/RESULTS.md §2.3).
     EXPECT_NEAR(s.shape.theta * 180 / M_PI, 45.0, 2.0) << "t/τ = " << s.t / tau;
     // The membrane turns with the vorticity, 1/2, up to O(Ca²): measured 0.4994 at 4τ.
     EXPECT_NEAR(s.tank_treading, theory::SmallDeformation::tank_treading_rate(L, flow_plane(L)), 2e-3)

@@ -1,7 +1,7 @@
 // The error of capsflow against the small-deformation theory, split into its two parts
 // (docs/small-deformation.md §8): relative error of D ≈ a h² (mesh) + b Ca² (theory). Levels 2 and
 // 3, Ca_s = 0.005, 0.01, 0.02, NH membrane sphere, λ = 1, up to 2τ (then the plain membrane buckles
-// at the mesh scale in planar hyperbolic flow). About 2 CPU minutes. Numbers: perf/RESULTS.md §9.
+// at the mesh scale in planar hyperbolic flow). About 2 CPU minutes. Numbers: perf/RESULTS.md §2.3.
 #include <gtest/gtest.h>
 
 #include <cmath>

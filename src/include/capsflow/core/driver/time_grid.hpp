@@ -1,5 +1,5 @@
 #pragma once
-// Time bookkeeping of the run loop (docs/time-integration.md §5.1, docs/scene-and-output.md §2.7):
+// Time bookkeeping of the run loop (docs/time-integration.md §5.5, docs/scene-and-output.md §2.7):
 // landing on output times and t_end, when an output or checkpoint time is reached, the next index
 // of a periodic event, and whether a step makes progress at all.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Catches a numerical instability when it starts (docs/time-integration.md §5.3). An unstable mode
+// Catches a numerical instability when it starts (docs/time-integration.md §5.10). An unstable mode
 // multiplies everything it touches, the enclosed volume included, by the same factor |P(z)| > 1
 // every step, so the volume error grows geometrically while a healthy run's does not:
 //  - with the volume correction on, a healthy drift stays at round-off or at the O(Δt³) level of

@@ -1,12 +1,12 @@
 #pragma once
-// Health of a time step: what makes a run stop as "blow_up" (docs/time-integration.md §5.3).
+// Health of a time step: what makes a run stop as "blow_up" (docs/time-integration.md §5.10).
 #include <string>
 
 #include "capsflow/core/types.hpp"
 
 namespace capsflow {
 
-// Early detection of a failing run (docs/time-integration.md §5.3): non-finite positions, an
+// Early detection of a failing run (docs/time-integration.md §5.10): non-finite positions, an
 // element whose normal flipped during the step (inversion), a collapsed element, or runaway
 // volume. Returns an empty string when healthy, otherwise a one-line description.
 // A stable step changes an element's area by a factor 1 + O(|∇v|Δt), a few percent at most, so

@@ -1,5 +1,5 @@
 #pragma once
-// Steady-state detection of a run (docs/time-integration.md §5.4).
+// Steady-state detection of a run (docs/time-integration.md §5.11).
 #include <array>
 #include <deque>
 #include <limits>

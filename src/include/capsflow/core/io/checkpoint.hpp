@@ -1,5 +1,5 @@
 #pragma once
-// Full-state checkpoints for `--restart` (docs/scene-and-output.md §3.6, docs/time-integration.md §5.5).
+// Full-state checkpoints for `--restart` (docs/scene-and-output.md §3.6, docs/time-integration.md §5.12).
 //
 // write_checkpoint writes `<path>.tmp.<pid>`, fsyncs it, reads it back and compares checksums
 // (a full disk has produced files that closed without error but held zeroed data), renames the

@@ -1,10 +1,10 @@
 #pragma once
 // The right-hand side of the capsule problem: positions x → node velocities v = dx/dt, through
-// the stage pipeline of the paper (docs/time-integration.md §5.1):
+// the stage pipeline of the paper (docs/time-integration.md §5.5):
 //   wall (GSMB: rotation solve, warm-started) → R_s → M(x) q = R_s → v = v∞(x) − S[q].
 // With fluid.volume_correction, v ← v − c n_i with c chosen so that the discrete flux
 // Σ_e A_e n_e·(v0+v1+v2)/3 — exactly dV/dt of the polyhedron — is zero (volume_constraint.hpp):
-// the O(h²) flux error of the P1 boundary integral (docs/time-integration.md §5.3) no longer
+// the O(h²) flux error of the P1 boundary integral (docs/time-integration.md §5.10) no longer
 // accumulates into volume drift.
 // With fluid.viscosity_ratio λ ≠ 1, v∞ − S[q] is the right-hand side of the second-kind equation
 // (1 + λ)/2 u + (1 − λ) D[u] = v∞ − S[q] (bie/viscosity_ratio.hpp), solved before the volume

@@ -15,7 +15,7 @@
 
 namespace capsflow {
 
-// The stage predictor (docs/time-integration.md §5.7): a scheme whose stage states are linear
+// The stage predictor (docs/time-integration.md §5.6): a scheme whose stage states are linear
 // combinations of earlier ones tells the right-hand side which, and the right-hand side starts its
 // inner solve from the same combination of their solutions. The right-hand side keeps solutions in
 // kSlots slots: keep_start keeps the solution of the last evaluation (made before this one), keep

@@ -59,7 +59,7 @@ struct FlowSpec {
 struct TimeSpec {
   TimeSpec();
   TimeScheme scheme;             // as written; "auto" is resolved with the mesh (stepping/time_plan.hpp)
-  double tolerance;              // local error per step (RMS over nodes, units of ℓ; docs/time-integration.md §5.7);
+  double tolerance;              // local error per step (RMS over nodes, units of ℓ; docs/time-integration.md §5.6);
                                  // under "auto" the plan chooses (stepping/time_plan.hpp)
   bool tolerance_auto = true;
   bool dt_auto = true;           // RKC: error-controlled step; Heun: the stability-limited step

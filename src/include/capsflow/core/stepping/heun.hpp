@@ -1,5 +1,5 @@
 #pragma once
-// Explicit second-order Runge–Kutta (Heun), the paper's scheme (docs/time-integration.md §5.1):
+// Explicit second-order Runge–Kutta (Heun), the paper's scheme (docs/time-integration.md §5.5):
 //   v1 = f(x),  x* = x + Δt v1,  v2 = f(x*),  x ← x + Δt (v1 + v2)/2.
 // Two right-hand-side evaluations per step; stable for Δt below the limit of stepping/stability.hpp.
 //

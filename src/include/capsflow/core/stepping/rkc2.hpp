@@ -1,6 +1,6 @@
 #pragma once
 // Damped second-order Runge–Kutta–Chebyshev (RKC2) with local error control
-// (docs/time-integration.md §5.7): the scheme "auto" picks where the wall is stiff for its mesh,
+// (docs/time-integration.md §5.6): the scheme "auto" picks where the wall is stiff for its mesh,
 // since its stability interval covers about 1.86× more of τρ per stage² than ROCK4's (0.65 s²
 // against 0.35 s²). The stages are RkcCoefficients' (stepping/rkc_coefficients.hpp); ρ, the
 // controller, dense output and checkpoints are the shared StabilizedStepper's.

@@ -1,7 +1,7 @@
 #pragma once
 // Coefficients of the damped second-order Runge–Kutta–Chebyshev method RKC2 (van der Houwen &
 // Sommeijer 1980; Sommeijer, Shampine & Verwer 1998, "RKC: an explicit solver for parabolic
-// PDEs"; docs/time-integration.md §5.7). With T_j the Chebyshev polynomials of the first kind,
+// PDEs"; docs/time-integration.md §5.6). With T_j the Chebyshev polynomials of the first kind,
 // damping ε, w0 = 1 + ε/s², w1 = T_s'(w0)/T_s''(w0), b_j = T_j''(w0)/T_j'(w0)² (j ≥ 2),
 // b_0 = b_1 = b_2, a_j = 1 − b_j T_j(w0):
 //   Y_0 = y_n,  Y_1 = Y_0 + μ̃_1 τ F(Y_0),  μ̃_1 = b_1 w1,

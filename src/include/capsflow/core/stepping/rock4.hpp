@@ -1,5 +1,5 @@
 #pragma once
-// The fourth-order stabilised scheme of the ROCK4 family (docs/time-integration.md §5.9), with
+// The fourth-order stabilised scheme of the ROCK4 family (docs/time-integration.md §5.8), with
 // coefficients computed here (stepping/rock4_coefficients.hpp): the scheme "auto" picks where the
 // wall is soft for its mesh, where accuracy sets the step and the fourth order pays. ρ, the
 // controller, dense output and checkpoints are the shared StabilizedStepper's.
@@ -20,7 +20,7 @@ class Rock4 final : public StabilizedStepper {
   // The first error-controlled step spans at most 20 stages. ROCK4's tolerances are ~100× RKC2's
   // numbers, so the first guess (τ|F|/2 at the tolerance) can span up to 152 stages before any
   // estimate or rejection has checked ρ; on a Skalak wall at Ca_s = 1e-3 a stage's rotation solve
-  // diverged inside such a step (§5.9). Shortening only what is that long leaves every other run as it was.
+  // diverged inside such a step (§5.8). Shortening only what is that long leaves every other run as it was.
   static constexpr int kFirstStepStages = 20;
 
   explicit Rock4(Options opt);

@@ -1,7 +1,7 @@
 #pragma once
 // Coefficients of a fourth-order stabilised Runge–Kutta method of the ROCK4 family (Abdulle 2002,
 // "Fourth order Chebyshev methods with recurrence relation"), computed for capsflow by
-// scripts/rock4_coefficients.py (docs/time-integration.md §5.9 says how and what was checked).
+// scripts/rock4_coefficients.py (docs/time-integration.md §5.8 says how and what was checked).
 //
 // Its stability polynomial of degree s is R_s(z) = w4(z) P_{s−4}(z): w4 has two pairs of complex
 // zeros, P_{s−4} is the orthogonal polynomial for the weight w4(z)²/√(1 − x²) on the interval

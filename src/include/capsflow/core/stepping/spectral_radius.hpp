@@ -4,7 +4,7 @@
 //   w ← F(y + δ ŵ) − F(y),   σ = |w| / δ,   until σ changes by less than `rel_tol`,
 // with δ = √ε |y| so that the difference quotient sees the linearisation. Warm-started from the
 // last direction, so a refresh costs a few evaluations. The capsule problem's Jacobian −S K has
-// real non-positive eigenvalues up to the O(γ̇) flow terms (docs/time-integration.md §5.7), so the
+// real non-positive eigenvalues up to the O(γ̇) flow terms (docs/time-integration.md §5.6), so the
 // dominant mode is the stiffest elastic mode and the iteration converges to it.
 #include "capsflow/core/rhs/right_hand_side.hpp"
 #include "capsflow/core/types.hpp"

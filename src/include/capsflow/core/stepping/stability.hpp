@@ -1,12 +1,12 @@
 #pragma once
-// Explicit time-step limit of the coupled capsule problem (docs/time-integration.md §5.2): von Neumann
+// Explicit time-step limit of the coupled capsule problem (docs/time-integration.md §5.9): von Neumann
 // analysis of RK2 on a locally flat wall with the highest mesh mode k = π/Δx:
 //   membrane  γ̇Δt ≤ c_m · G_s/(K_s + G_s) · Ca_s · Δx/ℓ          (paper Eq. 41)
 //   bending   γ̇Δt ≤ c_b · (G_s ℓ²/B) · Ca_s · (Δx/ℓ)³,  B/(G_s ℓ²) = α²/(6(1 − ν)), c_b = 8/π³
 // plus an accuracy cap for the flow itself (|L|Δt ≤ kFlowCap). dt = "auto" takes
 // safety × the smallest of these, recomputed every step from the current shortest edge.
 // The theory gives c_m = 8/π ≈ 2.55 and c_b = 8/π³; c_m is calibrated by bisection of the fixed
-// dt at which runs blow up (perf/stability/bisect_dt.sh; table in perf/RESULTS.md §4): GH, Ca_s = 0.1, levels 2 and
+// dt at which runs blow up (perf/stability/bisect_dt.sh; table in perf/RESULTS.md §3.1): GH, Ca_s = 0.1, levels 2 and
 // 3 → c_m = 1.41 and 1.45 (NH: 1.94, Skalak C = 1: 1.65); kMembraneConstant = 1.4 is the
 // conservative value. A thick GSMB wall (α = 0.3, level 3) is stable up to the membrane limit,
 // 3× above the theoretical bending limit, so c_b ≥ 0.74: kBendingConstant = 0.7.

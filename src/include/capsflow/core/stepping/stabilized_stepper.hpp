@@ -1,5 +1,5 @@
 #pragma once
-// What the two stabilised explicit schemes share (docs/time-integration.md §5.7): the spectral
+// What the two stabilised explicit schemes share (docs/time-integration.md §5.6): the spectral
 // radius, the stage count it implies, the error-controlled step, dense output, the stage predictor
 // and the checkpointed state. The schemes themselves — their stages and error estimates — are
 // Rkc2 (stepping/rkc2.hpp) and Rock4 (stepping/rock4.hpp).

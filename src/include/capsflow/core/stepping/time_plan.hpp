@@ -1,6 +1,6 @@
 #pragma once
 // How a run is stepped, decided once from the scene as the user wrote it and the reference mesh
-// (docs/time-integration.md §5.12): the scheme, whether its step is error-controlled, the tolerance
+// (docs/time-integration.md §5.2): the scheme, whether its step is error-controlled, the tolerance
 // it starts with, what happens where the wall creases at the mesh scale, and the sentence saying
 // why. `capsflow run`, `capsflow info`, studies and the Python module call only resolve_time_plan;
 // the Scene is never rewritten with the choice. A checkpoint records the plan (to_json), so that a

@@ -3,7 +3,7 @@
 // fourth-order ROCK4 (stepping/rock4.hpp), both stabilised explicit steps with error control, or
 // Heun at the stability-limited step (stepping/heun.hpp). "auto" (the default) is resolved with the
 // mesh by the time plan: ROCK4 where the wall is soft for its mesh, RKC2 where it is stiff
-// (stepping/time_plan.hpp, docs/time-integration.md §5.12).
+// (stepping/time_plan.hpp, docs/time-integration.md §5.2).
 #include "capsflow/core/named_enum.hpp"
 
 namespace capsflow {

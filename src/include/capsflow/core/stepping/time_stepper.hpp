@@ -87,7 +87,7 @@ class TimeStepper {
 
 // The plan's scheme (stepping/time_plan.hpp) for a run from state x, at `tolerance` (the plan's
 // tolerance in force there; unused without error control). volume0: the enclosed volume that a
-// stabilised scheme projects onto with fluid.volume_correction (docs/time-integration.md §5.7).
+// stabilised scheme projects onto with fluid.volume_correction (docs/time-integration.md §5.6).
 std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const TimePlan& plan, double tolerance,
                                                const Triangles& triangles, double volume0, const Points& x);
 

@@ -4,7 +4,7 @@
 // sizes are measured (clamped to [1, 3]: below 1 a run would get cheaper per element as it
 // grows, above 3 the fit is following noise); until then the expected growth of the scheme:
 // cost per evaluation ∝ N (FMM) times the number of evaluations, ∝ 1/Δt ∝ N for Heun (membrane
-// stability limit Δt ∝ h², docs/time-integration.md §5.2) and ∝ √ρ ∝ N^0.5 for RKC, i.e.
+// stability limit Δt ∝ h², docs/time-integration.md §5.9) and ∝ √ρ ∝ N^0.5 for RKC, i.e.
 // β = 2 (Heun) or 1.5 (RKC). c comes from the same family's measurements when there are any,
 // else from all (families differ by constant factors such as curved/flat ≈ 1.5).
 #include <string>
