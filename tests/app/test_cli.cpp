@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -557,4 +558,24 @@ TEST(Cli, AThreadCountTheMachineCannotTakeIsRefusedBeforeAnyFolderIsLocked) {
   EXPECT_NE(r.err.find("capsflow: error: --threads 3: only "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(" of 3 threads could be started here"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Cli, ARestartFromAFifoIsRefusedInsteadOfWaitingForAWriter) {
+  // HDF5 opened a FIFO given as the checkpoint and waited for ever for a writer; meshes and scenes
+  // were already refused unless regular files. timeout(1) bounds the old behaviour (exit 124).
+  TempDir d;
+  const fs::path fifo = d.path / "ck.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string bounded = std::string("timeout -k 5 30 ") + CAPSFLOW_EXE;
+  const Result r = run(bounded + " run --restart " + fifo.string() + " --threads 1", d.path, false);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("checkpoint '" + fifo.string() + "': is a FIFO, not a regular file"), std::string::npos) << r.err;
+  // The same as a folder's checkpoint.h5 (--restart DIR).
+  const fs::path dir = d.path / "run";
+  fs::create_directories(dir);
+  ASSERT_EQ(::mkfifo((dir / "checkpoint.h5").c_str(), 0600), 0);
+  const Result f = run(bounded + " run --restart " + dir.string() + " --threads 1", d.path, false);
+  EXPECT_EQ(f.code, 1) << f.err;
+  EXPECT_NE(f.err.find("checkpoint.h5': is a FIFO, not a regular file"), std::string::npos) << f.err;
 }
