@@ -136,7 +136,7 @@ void Simulation::Impl::set_up_restart_folder(io::CheckpointState& ck) {
                  loaded.state.t);
   ck = std::move(loaded.state);
   checkpoint_path = loaded.path;
-  restart = plan_restart(ck, loaded.path, opt.restart_overrides, opt.output_dir);  // refuses before any write
+  restart = plan_restart(ck, loaded.path, opt.restart_overrides, opt.output_dir, opt.finish_at_t_end);  // refuses before any write
   scene = restart.scene;
   folder = restart.folder;
   if (restart.new_folder) io::prepare_output_folder(folder, false);
@@ -205,6 +205,8 @@ void Simulation::Impl::log_set_up() const {
   spdlog::info("boundary integral: {} ({})", to_string(dyn->single_layer().backend()), dyn->single_layer().backend_reason());
   spdlog::info("output: {}{}", folder.string(), opt.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st.t));
   if (restart.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path.string());
+  if (!opt.restart.empty() && time_reached(st.t, scene.time.t_end, 0.0))
+    spdlog::info("the checkpoint is at time.t_end = {:g}: finishing the run (summary.json) without a step", scene.time.t_end);
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
   if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
   if (scene.time.scheme_auto && scene.time.dt_auto) {

@@ -358,3 +358,32 @@ TEST(Study, AStudyFileThatIsAFifoIsRefusedInsteadOfWaitingForAWriter) {
   }
   EXPECT_EQ(bounded(analyse).code, 0);  // the files back: the study reads as before
 }
+
+TEST(Study, AVariantKilledBetweenItsLastCheckpointAndItsSummaryIsFinishedFromThatCheckpoint) {
+  // finish() writes the checkpoint at t_end, then summary.json: a variant killed in between left a
+  // checkpoint with no time left, which every later call tried to continue and refused ("give a
+  // later --set time.t_end"), exit 1, for ever.
+  TempDir d;
+  const fs::path out = d.path / "s";
+  const std::string tiny = "study --levels 1,2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.2 "
+                           "--set time.t_end=0.05 --threads 2 -o " + out.string();
+  ASSERT_EQ(capsflow(tiny, d.path).code, 0);
+  const fs::path l2 = out / "L2";
+  const nlohmann::json before = json_of(l2 / "summary.json");
+  const std::string series = slurp(l2 / "timeseries.csv");
+  for (const std::string jobs : {"", " --jobs 2"}) {  // in this process, and in a child (--variant)
+    fs::remove(l2 / "summary.json");
+    const Result r = capsflow(tiny + jobs, d.path);
+    ASSERT_EQ(r.code, 0) << jobs << "\n" << r.out;
+    EXPECT_EQ(r.out.find("give a later"), std::string::npos) << r.out;
+    const nlohmann::json after = json_of(l2 / "summary.json");
+    EXPECT_EQ(after["stop_reason"], "t_end");
+    EXPECT_EQ(after["run_id"], before["run_id"]);
+    // The summary of the checkpoint's state, which is the state the killed run ended in: the same
+    // numbers bit for bit (nothing is computed again), the same step and evaluation counts.
+    for (const char* k : {"t", "steps", "rhs_evaluations", "D12", "D13", "D23", "L", "Le", "volume_drift"})
+      EXPECT_EQ(after[k], before[k]) << jobs << ": " << k;
+    EXPECT_EQ(slurp(l2 / "timeseries.csv"), series) << "no row was added or changed";
+    for (const auto& v : json_of(out / "study.json")["variants"]) EXPECT_EQ(v["state"], "finished") << v["name"];
+  }
+}
