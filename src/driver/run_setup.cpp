@@ -36,6 +36,7 @@ void Simulation::Impl::set_up() {
     scene.time.tolerance = auto_tolerance_rock4(static_cast<long>(ref.num_elements()), scene.wall.model == WallModel::Membrane);
   mesh_hash = io::mesh_hash(ref.vertices, ref.triangles);
   make_parts();
+  stop_set_up_if_requested();  // the right-hand side's parts are most of the set-up; nothing written yet
   if (!opt.restart.empty()) restore(ck);
   else start_at_reference();
   const nlohmann::json meta = metadata();
@@ -108,6 +109,7 @@ std::filesystem::path folder_to_write(const RunOptions& opt) {
 void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
   namespace fs = std::filesystem;
   if (opt.restart.empty()) ref = make_reference_mesh(opt.scene.mesh);  // a bad mesh is refused before any folder exists
+  stop_set_up_if_requested();
   const fs::path target = folder_to_write(opt);
   if (target.empty()) throw io::IoError("the output folder path is empty");
   std::error_code ec;
@@ -122,11 +124,25 @@ void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
   try {
     if (opt.restart.empty()) set_up_new_folder();
     else set_up_restart_folder(ck);
+    stop_set_up_if_requested();
   } catch (...) {
     folder_lock.release();
     if (!existed) fs::remove(target, ec);  // removes only a folder that is still empty
     throw;
   }
+  folder_created = !existed;
+}
+
+void Simulation::Impl::stop_set_up_if_requested() {
+  const int request = stop_request.load();
+  if (request == 0) return;
+  const bool locked = folder_lock.held();
+  folder_lock.release();
+  std::error_code ec;
+  if (folder_created) std::filesystem::remove(folder, ec);  // removes only a folder that is still empty
+  throw SetUpInterrupted(fmt::format("{} during the set-up: stopped before the first step{}",
+                                     request > 0 ? fmt::format("signal {} received", request) : std::string("stop requested"),
+                                     locked ? fmt::format(", nothing of this run written to {}", folder.string()) : std::string()));
 }
 
 void Simulation::Impl::set_up_restart_folder(io::CheckpointState& ck) {
