@@ -87,6 +87,9 @@ class PySimulation {
     } catch (const io::IoError&) {
       restore_threads();
       throw;  // OSError (errors.cpp)
+    } catch (const SetUpInterrupted&) {
+      restore_threads();
+      throw;  // a stop request during the set-up: RuntimeError, not bad input
     } catch (const std::runtime_error& e) {
       restore_threads();
       // Set-up refuses its input (a scene, a mesh, a restart into the wrong folder) with one line:

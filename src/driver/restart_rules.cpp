@@ -28,7 +28,7 @@ bool same_folder(const fs::path& a, const fs::path& b) {
 
 }  // namespace
 
-void check_restart_overrides(const Scene& stored, const Scene& next, double t, long elements) {
+void check_restart_overrides(const Scene& stored, const Scene& next, double t, long elements, bool finish_at_t_end) {
   const MeshSpec &a = stored.mesh, &b = next.mesh;
   const char* changed = a.file != b.file                ? "mesh.file"
                         : a.base != b.base              ? "mesh.base"
@@ -43,7 +43,7 @@ void check_restart_overrides(const Scene& stored, const Scene& next, double t, l
   if (stored.wall.model != next.wall.model)
     refuse(fmt::format("--set wall.model: the checkpoint holds the state of a {} wall; a restart cannot switch it to {} "
                        "(start a new run)", to_string(stored.wall.model), to_string(next.wall.model)));
-  if (!(next.time.t_end > t))
+  if (!(next.time.t_end > t) && !(finish_at_t_end && time_reached(t, next.time.t_end, 0.0)))
     refuse(fmt::format("time.t_end = {:g} is not after the checkpoint time t = {:g}: nothing to continue (give a later "
                        "--set time.t_end=...)", next.time.t_end, t));
 }
@@ -57,12 +57,12 @@ fs::path checkpoint_folder(const fs::path& checkpoint_path) {
 }
 
 RestartPlan plan_restart(const io::CheckpointState& ck, const fs::path& checkpoint_path,
-                         const std::vector<std::string>& overrides, const std::string& output_dir) {
+                         const std::vector<std::string>& overrides, const std::string& output_dir, bool finish_at_t_end) {
   RestartPlan plan;
   const std::string name = checkpoint_path.string() + " (scene)";
   const Scene stored = parse_scene(ck.scene_toml, name);
   plan.scene = parse_scene(ck.scene_toml, name, overrides);
-  check_restart_overrides(stored, plan.scene, ck.t, static_cast<long>(ck.triangles.rows()));
+  check_restart_overrides(stored, plan.scene, ck.t, static_cast<long>(ck.triangles.rows()), finish_at_t_end);
 
   const fs::path home = checkpoint_folder(checkpoint_path);
   plan.folder = output_dir.empty() ? home : fs::path(output_dir);

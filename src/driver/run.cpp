@@ -289,7 +289,9 @@ extern "C" void on_signal(int sig) {
 
 int run_simulation(const RunOptions& options) {
   Simulation sim(options);
-  sim.set_up();
+  // The handlers come before the set-up, which takes minutes on a fine mesh: a signal during it
+  // (also one the parent shell would have had ignored) stops the run as interrupted, not at once
+  // halfway through writing the folder, and is not lost.
   g_running = &sim;
   auto old_int = std::signal(SIGINT, on_signal);
   auto old_term = std::signal(SIGTERM, on_signal);
@@ -300,6 +302,12 @@ int run_simulation(const RunOptions& options) {
       std::signal(SIGINT, i), std::signal(SIGTERM, t);
     }
   } restore{old_int, old_term};
+  try {
+    sim.set_up();
+  } catch (const SetUpInterrupted& e) {
+    spdlog::warn("{}", e.what());
+    return StopReason(StopKind::Interrupted).exit_code();
+  }
   while (!sim.step()) {
   }
   return sim.finish();

@@ -27,6 +27,7 @@ void Simulation::Impl::set_up() {
   choose_time_plan(ck);
   mesh_hash = io::mesh_hash(ref.vertices, ref.triangles);
   make_parts();
+  stop_set_up_if_requested();  // the right-hand side's parts are most of the set-up; nothing written yet
   if (!opt.restart.empty()) restore(ck);
   else start_at_reference();
   const nlohmann::json meta = metadata();
@@ -119,6 +120,7 @@ std::filesystem::path folder_to_write(const RunOptions& opt) {
 void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
   namespace fs = std::filesystem;
   if (opt.restart.empty()) ref = make_reference_mesh(opt.scene.mesh);  // a bad mesh is refused before any folder exists
+  stop_set_up_if_requested();
   const fs::path target = folder_to_write(opt);
   if (target.empty()) throw io::IoError("the output folder path is empty");
   std::error_code ec;
@@ -133,11 +135,25 @@ void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
   try {
     if (opt.restart.empty()) set_up_new_folder();
     else set_up_restart_folder(ck);
+    stop_set_up_if_requested();
   } catch (...) {
     folder_lock.release();
     if (!existed) fs::remove(target, ec);  // removes only a folder that is still empty
     throw;
   }
+  folder_created = !existed;
+}
+
+void Simulation::Impl::stop_set_up_if_requested() {
+  const int request = stop_request.load();
+  if (request == 0) return;
+  const bool locked = folder_lock.held();
+  folder_lock.release();
+  std::error_code ec;
+  if (folder_created) std::filesystem::remove(folder, ec);  // removes only a folder that is still empty
+  throw SetUpInterrupted(fmt::format("{} during the set-up: stopped before the first step{}",
+                                     request > 0 ? fmt::format("signal {} received", request) : std::string("stop requested"),
+                                     locked ? fmt::format(", nothing of this run written to {}", folder.string()) : std::string()));
 }
 
 void Simulation::Impl::set_up_restart_folder(io::CheckpointState& ck) {
@@ -147,7 +163,7 @@ void Simulation::Impl::set_up_restart_folder(io::CheckpointState& ck) {
                  loaded.state.t);
   ck = std::move(loaded.state);
   checkpoint_path = loaded.path;
-  restart = plan_restart(ck, loaded.path, opt.restart_overrides, opt.output_dir);  // refuses before any write
+  restart = plan_restart(ck, loaded.path, opt.restart_overrides, opt.output_dir, opt.finish_at_t_end);  // refuses before any write
   scene = restart.scene;
   folder = restart.folder;
   if (restart.new_folder) io::prepare_output_folder(folder, false);
@@ -214,6 +230,8 @@ void Simulation::Impl::log_set_up() const {
   spdlog::info("boundary integral: {} ({})", to_string(dyn->single_layer().backend()), dyn->single_layer().backend_reason());
   spdlog::info("output: {}{}", folder.string(), opt.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st.t));
   if (restart.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path.string());
+  if (!opt.restart.empty() && time_reached(st.t, scene.time.t_end, 0.0))
+    spdlog::info("the checkpoint is at time.t_end = {:g}: finishing the run (summary.json) without a step", scene.time.t_end);
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);
   if (const std::string note = unused_fmm_order_note(scene, dyn->single_layer().backend()); !note.empty()) spdlog::warn("{}", note);
   spdlog::info("time scheme: {} ({}{}; docs/time-integration.md §5.2)", to_string(plan.scheme),

@@ -73,6 +73,9 @@ struct Simulation::Impl {
   void set_up_folder(io::CheckpointState& ck);         // takes the folder lock, then:
   void set_up_restart_folder(io::CheckpointState& ck);  // the restart plan, the checkpoint's mesh
   void set_up_new_folder();
+  // Throws SetUpInterrupted when a stop was requested, after undoing what the set-up did to the
+  // folder (the lock; a folder it created). Called between the parts of the set-up.
+  void stop_set_up_if_requested();
   void make_parts();          // the right-hand side, monitors and watches, fresh
   void start_at_reference();  // the state at t = 0
   void write_first_output();  // the row and checkpoint at the run's start
@@ -129,6 +132,7 @@ struct Simulation::Impl {
   SurfaceMesh ref;
   std::filesystem::path folder;
   io::FolderLock folder_lock;              // one writer per run folder, held for the life of the run
+  bool folder_created = false;             // the set-up created `folder` (removed again if it stops)
   RestartPlan restart;                     // restart.new_folder: a new run folder started from the checkpoint
   std::filesystem::path checkpoint_path;   // the checkpoint actually read (after a fallback: the previous one)
   std::string run_id, mesh_hash;

@@ -11,6 +11,7 @@
 
 #include "capsflow/core/io/atomic_file.hpp"
 #include "capsflow/core/io/h5.hpp"
+#include "capsflow/core/io/input_file.hpp"
 #include "capsflow/core/io/run_identity.hpp"
 #include "capsflow/core/io/io_error.hpp"
 #include "fnv1a.hpp"
@@ -158,6 +159,8 @@ CheckpointState read_checkpoint(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail(name, "no such file");
   if (fs::is_directory(path, ec)) fail(name, "is a folder, not a checkpoint file (pass " + (path / kCheckpointFile).string() + ")");
+  // A FIFO or a device would block HDF5's open for ever.
+  if (const std::string problem = input_file_problem(path.string(), kAnyFileSize); !problem.empty()) fail(name, problem);
   std::optional<h5::File> file;
   try {
     file.emplace(h5::File::open(path, h5::File::Mode::read_only));

@@ -18,7 +18,7 @@ std::string input_file_problem(const std::string& path, std::uintmax_t max_bytes
     const char* what = type == S_IFIFO ? "a FIFO" : type == S_IFCHR ? "a character device" : type == S_IFBLK ? "a block device"
                        : type == S_IFSOCK                        ? "a socket"
                                                                  : "not a regular file";
-    return fmt::format("is {}, not a regular file (capsflow reads scenes and meshes from regular files only)", what);
+    return fmt::format("is {}, not a regular file (capsflow reads its input from regular files only)", what);
   }
   const auto size = static_cast<std::uintmax_t>(st.st_size);
   if (size > max_bytes)

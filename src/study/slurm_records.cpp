@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "capsflow/core/io/atomic_file.hpp"
+#include "capsflow/core/study/variant_folder.hpp"
 
 namespace capsflow::study {
 namespace fs = std::filesystem;
@@ -13,6 +14,7 @@ SlurmRecords read_slurm_records(const fs::path& dir) {
   const fs::path p = dir / kSlurmFolder / kSlurmJobsFile;
   std::error_code ec;
   if (!fs::exists(p, ec)) return r;
+  require_regular_file(p);
   std::ifstream in(p);
   try {
     const nlohmann::json j = nlohmann::json::parse(in);

@@ -14,6 +14,7 @@
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/study/study_report.hpp"
+#include "capsflow/core/study/variant_folder.hpp"
 
 namespace capsflow::study {
 namespace fs = std::filesystem;
@@ -89,6 +90,7 @@ void check_same_study(const StudyPlan& plan, const fs::path& dir) {
   std::error_code ec;
   if (!fs::exists(p, ec)) return;
   nlohmann::json stored;
+  require_regular_file(p);
   try {
     std::ifstream in(p);
     stored = nlohmann::json::parse(in).at("study").at("base_scene");

@@ -15,6 +15,7 @@
 #include "capsflow/core/study/study_folder.hpp"
 #include "capsflow/core/study/study_lock.hpp"
 #include "capsflow/core/study/study_report.hpp"
+#include "capsflow/core/study/variant_folder.hpp"
 #include "capsflow/core/study/variant_run.hpp"
 
 namespace capsflow::study {
@@ -151,6 +152,7 @@ struct RecordedStudy {
 // The study recorded in DIR/study.json (the `study` block written by study_report).
 RecordedStudy recorded_study(const fs::path& dir) {
   const fs::path p = dir / kStudyJson;
+  require_regular_file(p);
   std::ifstream in(p);
   if (!in) fail("cannot read '" + p.string() + "': not a study folder");
   RecordedStudy r;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "capsflow/core/io/checkpoint.hpp"
+#include "capsflow/core/io/input_file.hpp"
 #include "capsflow/core/io/manifest.hpp"
 #include "capsflow/core/io/results_writer.hpp"
 
@@ -17,6 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 nlohmann::json read_json(const fs::path& p) {
+  require_regular_file(p);
   std::ifstream in(p);
   if (!in) throw std::runtime_error("cannot read '" + p.string() + "'");
   try {
@@ -46,6 +48,13 @@ std::vector<std::string> split(const std::string& line) {
 }
 
 }  // namespace
+
+void require_regular_file(const fs::path& p) {
+  std::error_code ec;
+  if (!fs::exists(p, ec)) return;  // the reader says what a missing file means
+  if (const std::string problem = io::input_file_problem(p.string(), io::kAnyFileSize); !problem.empty())
+    throw std::runtime_error("cannot read '" + p.string() + "': it " + problem);
+}
 
 FolderState inspect_variant_folder(const fs::path& dir) {
   std::error_code ec;
@@ -96,6 +105,7 @@ VariantResult read_variant_result(const fs::path& dir) {
     throw std::runtime_error("'" + sp.string() + "': missing or malformed key (" + e.what() + ")");
   }
   const fs::path cp = dir / io::kTimeseriesCsv;
+  require_regular_file(cp);
   std::ifstream in(cp);
   if (!in) throw std::runtime_error("cannot read '" + cp.string() + "'");
   std::string line;

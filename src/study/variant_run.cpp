@@ -106,6 +106,9 @@ int run_variant(const Variant& v, const fs::path& folder, bool resume, const Var
   if (resume) {
     ro.restart = folder.string();  // its checkpoint.h5 (or the previous one); continues in place
     ro.output_dir.clear();
+    // Killed after its last checkpoint (the one finish() writes at t_end) and before summary.json:
+    // the restart writes the summary from that checkpoint instead of refusing a run with no time left.
+    ro.finish_at_t_end = true;
   } else {
     ro.scene = v.scene;
     ro.output_dir = folder.string();

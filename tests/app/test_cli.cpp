@@ -12,9 +12,11 @@
 #include <nlohmann/json.hpp>
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
 #include <thread>
 
 #include "capsflow/core/io/checkpoint.hpp"
@@ -557,4 +559,64 @@ TEST(Cli, AThreadCountTheMachineCannotTakeIsRefusedBeforeAnyFolderIsLocked) {
   EXPECT_NE(r.err.find("capsflow: error: --threads 3: only "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(" of 3 threads could be started here"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Cli, ARestartFromAFifoIsRefusedInsteadOfWaitingForAWriter) {
+  // HDF5 opened a FIFO given as the checkpoint and waited for ever for a writer; meshes and scenes
+  // were already refused unless regular files. timeout(1) bounds the old behaviour (exit 124).
+  TempDir d;
+  const fs::path fifo = d.path / "ck.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string bounded = std::string("timeout -k 5 30 ") + CAPSFLOW_EXE;
+  const Result r = run(bounded + " run --restart " + fifo.string() + " --threads 1", d.path, false);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("checkpoint '" + fifo.string() + "': is a FIFO, not a regular file"), std::string::npos) << r.err;
+  // The same as a folder's checkpoint.h5 (--restart DIR).
+  const fs::path dir = d.path / "run";
+  fs::create_directories(dir);
+  ASSERT_EQ(::mkfifo((dir / "checkpoint.h5").c_str(), 0600), 0);
+  const Result f = run(bounded + " run --restart " + dir.string() + " --threads 1", d.path, false);
+  EXPECT_EQ(f.code, 1) << f.err;
+  EXPECT_NE(f.err.find("checkpoint.h5': is a FIFO, not a regular file"), std::string::npos) << f.err;
+}
+
+TEST(Cli, ASignalDuringTheSetUpStopsTheRunAsInterruptedAndWritesNothingHalfway) {
+  // The handlers were installed only after the set-up. A SIGINT during it ended the process by
+  // its default action, halfway through the folder; and when the parent had SIGINT ignored (a
+  // background job of a script: `capsflow run … &`), it was lost and the run went on to t_end.
+  // Here the parent ignores SIGINT, as such a shell does, and the signal comes as soon as the run
+  // has locked its folder: early in its set-up (after the mesh; the right-hand side and the first
+  // evaluation are still ahead).
+  TempDir d;
+  const fs::path out = d.path / "out";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    std::signal(SIGINT, SIG_IGN);
+    const std::string cmd = "exec " + std::string(CAPSFLOW_EXE) + " run --set mesh.level=3 --set time.t_end=0.02 --threads 1 -o " +
+                            out.string() + " > " + (d.path / "stdout.txt").string() + " 2> " + (d.path / "stderr.txt").string();
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  bool locked = false;
+  for (int i = 0; i < 12000 && !locked; ++i) {  // 60 s
+    locked = fs::exists(out / ".capsflow.lock");
+    if (!locked) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ::kill(pid, SIGINT);
+  ASSERT_TRUE(locked) << slurp(d.path / "stderr.txt");
+  const int code = wait_or_kill(pid, 120);
+  const std::string log = slurp(d.path / "stdout.txt") + slurp(d.path / "stderr.txt");
+  EXPECT_EQ(code, 130) << log;  // 0: the signal was lost and the run went on to t_end
+  if (!fs::exists(out / "summary.json")) {
+    // Stopped during the set-up, before the first state: nothing of the run is left.
+    EXPECT_NE(log.find("signal 2 received during the set-up: stopped before the first step"), std::string::npos) << log;
+    EXPECT_TRUE(!fs::exists(out) || fs::is_empty(out)) << "a folder the run created is removed again";
+  } else {
+    // The signal came after the first state was written (a loaded machine): the usual stop.
+    EXPECT_EQ(summary_of(out).at("stop_reason"), "interrupted");
+    EXPECT_EQ(summary_of(out).at("t"), 0.0);
+    EXPECT_NO_THROW(capsflow::io::read_checkpoint(out / "checkpoint.h5"));
+  }
+  EXPECT_EQ(log.find("capsflow: error"), std::string::npos) << log;
 }

@@ -2,6 +2,7 @@
 // families, a membrane capsule to γ̇t = 0.25), its files, resume after an interrupted variant,
 // a variant that stopped numerically, and the one-line refusals.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -331,4 +332,58 @@ TEST(Study, ASignalToAStudyWithJobsStopsItsRunningVariantsRecordsThemAndExits130
   for (const char* v : {"L2", "L3"}) EXPECT_EQ(json_of(out / v / "summary.json")["stop_reason"], "interrupted") << v;
   EXPECT_FALSE(fs::exists(out / "L1")) << "a variant was started after the signal";
   EXPECT_FALSE(fs::exists(out / ".capsflow.lock")) << "the study released its folder";
+}
+
+TEST(Study, AStudyFileThatIsAFifoIsRefusedInsteadOfWaitingForAWriter) {
+  // study.json or a variant's summary.json replaced by a FIFO: --analyse opened it and waited for
+  // ever for a writer. timeout(1) bounds the old behaviour (exit 124).
+  TempDir d;
+  const fs::path out = d.path / "s";
+  ASSERT_EQ(capsflow("study --levels 1 --set wall.model=membrane --set time.t_end=0.02 --threads 2 -o " + out.string(), d.path).code,
+            0);
+  const std::string analyse = std::string("timeout -k 5 30 ") + CAPSFLOW_EXE + " study --analyse " + out.string();
+  const auto bounded = [&](const std::string& command) {
+    const int status = std::system((command + " > " + (d.path / "bounded.txt").string() + " 2>&1").c_str());
+    return Result{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(d.path / "bounded.txt")};
+  };
+  for (const fs::path& file : {out / "L1" / "summary.json", out / "study.json"}) {
+    fs::rename(file, d.path / "kept");
+    ASSERT_EQ(::mkfifo(file.c_str(), 0600), 0);
+    const Result r = bounded(analyse);
+    EXPECT_EQ(r.code, 1) << file << "\n" << r.out;
+    EXPECT_EQ(count_lines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("cannot read '" + file.string() + "': it is a FIFO, not a regular file"), std::string::npos) << r.out;
+    fs::remove(file);
+    fs::rename(d.path / "kept", file);
+  }
+  EXPECT_EQ(bounded(analyse).code, 0);  // the files back: the study reads as before
+}
+
+TEST(Study, AVariantKilledBetweenItsLastCheckpointAndItsSummaryIsFinishedFromThatCheckpoint) {
+  // finish() writes the checkpoint at t_end, then summary.json: a variant killed in between left a
+  // checkpoint with no time left, which every later call tried to continue and refused ("give a
+  // later --set time.t_end"), exit 1, for ever.
+  TempDir d;
+  const fs::path out = d.path / "s";
+  const std::string tiny = "study --levels 1,2 --set wall.model=membrane --set wall.law=nh --set flow.ca_s=0.2 "
+                           "--set time.t_end=0.05 --threads 2 -o " + out.string();
+  ASSERT_EQ(capsflow(tiny, d.path).code, 0);
+  const fs::path l2 = out / "L2";
+  const nlohmann::json before = json_of(l2 / "summary.json");
+  const std::string series = slurp(l2 / "timeseries.csv");
+  for (const std::string jobs : {"", " --jobs 2"}) {  // in this process, and in a child (--variant)
+    fs::remove(l2 / "summary.json");
+    const Result r = capsflow(tiny + jobs, d.path);
+    ASSERT_EQ(r.code, 0) << jobs << "\n" << r.out;
+    EXPECT_EQ(r.out.find("give a later"), std::string::npos) << r.out;
+    const nlohmann::json after = json_of(l2 / "summary.json");
+    EXPECT_EQ(after["stop_reason"], "t_end");
+    EXPECT_EQ(after["run_id"], before["run_id"]);
+    // The summary of the checkpoint's state, which is the state the killed run ended in: the same
+    // numbers bit for bit (nothing is computed again), the same step and evaluation counts.
+    for (const char* k : {"t", "steps", "rhs_evaluations", "D12", "D13", "D23", "L", "Le", "volume_drift"})
+      EXPECT_EQ(after[k], before[k]) << jobs << ": " << k;
+    EXPECT_EQ(slurp(l2 / "timeseries.csv"), series) << "no row was added or changed";
+    for (const auto& v : json_of(out / "study.json")["variants"]) EXPECT_EQ(v["state"], "finished") << v["name"];
+  }
 }

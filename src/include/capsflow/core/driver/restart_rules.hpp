@@ -15,7 +15,8 @@
 //
 // Which --set keys apply: everything except the mesh (mesh.*: it comes from the checkpoint) and
 // wall.model (the checkpoint holds that wall's state), which are refused when they differ from the
-// checkpoint's scene; time.t_end must lie after the checkpoint time. Switching fluid.verify_every
+// checkpoint's scene; time.t_end must lie after the checkpoint time (or, for a caller that asks to
+// finish a run killed between its last checkpoint and its summary.json, at it). Switching fluid.verify_every
 // on or off is refused in the run's own folder (it adds or removes timeseries.csv columns). A changed output.every or
 // output.checkpoint_every restarts its index from the checkpoint time (restart_index).
 #include <cstdint>
@@ -41,12 +42,15 @@ struct RestartPlan {
 // The folder a checkpoint file is in ("." for a bare file name): where a restart continues by default.
 std::filesystem::path checkpoint_folder(const std::filesystem::path& checkpoint_path);
 
+// `finish_at_t_end` (RunOptions::finish_at_t_end) also accepts a checkpoint at time.t_end itself.
 RestartPlan plan_restart(const io::CheckpointState& checkpoint, const std::filesystem::path& checkpoint_path,
-                         const std::vector<std::string>& overrides, const std::string& output_dir);
+                         const std::vector<std::string>& overrides, const std::string& output_dir,
+                         bool finish_at_t_end = false);
 
 // Throws when `next` (the checkpoint's scene `stored` with --set applied) changes what a restart
 // cannot change (see above). `t` is the checkpoint time, `elements` its mesh size (for messages).
-void check_restart_overrides(const Scene& stored, const Scene& next, double t, long elements);
+// With `finish_at_t_end`, t may be time.t_end (within rounding): the run only finishes.
+void check_restart_overrides(const Scene& stored, const Scene& next, double t, long elements, bool finish_at_t_end = false);
 
 // The index of the next periodic event (output, checkpoint) for the continued run: the stored one
 // when the interval is unchanged (bit-for-bit continuation), else the first k with k·every > t.

@@ -30,6 +30,10 @@ struct RunOptions {
   bool overwrite = false;
   std::string restart;         // checkpoint to continue from
   std::vector<std::string> restart_overrides;  // --set applied to the checkpoint's scene
+  // A restart from a checkpoint at time.t_end is accepted and only finishes the run (summary.json
+  // from the checkpoint's state, no step): a run killed after its last checkpoint and before its
+  // summary.json. Otherwise such a restart is refused (nothing to continue). The study sets it.
+  bool finish_at_t_end = false;
   int threads = 0;             // 0 = OpenMP default
   std::string command_line;
   double progress_interval = 2.0;  // seconds of wall time between status lines

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 
 #include "capsflow/core/driver/run.hpp"
 #include "capsflow/core/driver/stop_reason.hpp"
@@ -21,6 +22,16 @@
 namespace capsflow {
 
 class HealthMonitor;
+
+// Simulation::set_up() ended by a stop request (request_stop, SIGINT/SIGTERM in run_simulation)
+// before the run wrote its first state: the folder holds nothing of the run (a folder the set-up
+// created is removed again, a restart's folder is as it was) and the lock is released. what() is
+// the one-line message. A request that comes later in the set-up stops the run at its first step
+// instead, as interrupted, with the checkpoint of its first state.
+class SetUpInterrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 class Simulation {
  public:
@@ -32,7 +43,8 @@ class Simulation {
   // Everything before the first step; throws std::runtime_error (one line) for set-up errors.
   // Order: threads; restart plan or the new scene (refusals before any write); the output folder;
   // right-hand side, scheme, monitors; state from the checkpoint or the reference; the results
-  // writer; the first output.
+  // writer; the first output. A stop request is looked at between these parts: before the results
+  // writer, it ends the set-up with SetUpInterrupted.
   void set_up();
   // One accepted step (rejected attempts are retried inside). Returns the reason once the run is
   // over — also when it already was; nullopt while it goes on.

@@ -46,4 +46,10 @@ struct VariantResult {
 // Reads DIR/summary.json and DIR/timeseries.csv. Throws std::runtime_error naming the file.
 VariantResult read_variant_result(const std::filesystem::path& dir);
 
+// Throws std::runtime_error ("cannot read 'P': it is a FIFO, not a regular file …") when `p`
+// exists and is not a regular file: a study file (study.json, a variant's summary.json or
+// timeseries.csv, the job record) that is a FIFO or a device would block its reader for ever
+// (io/input_file.hpp). A missing file passes: its reader says what that means.
+void require_regular_file(const std::filesystem::path& p);
+
 }  // namespace capsflow::study
