@@ -95,6 +95,14 @@ void Simulation::Impl::write_first_output() {
 
 namespace {
 
+// Where a restart's time scheme comes from, for its log: the checkpoint's scene names the scheme
+// the run chose ("auto" resolved), which the restart keeps unless --set time.scheme changes it.
+std::string restart_scheme_origin(const std::vector<std::string>& overrides) {
+  for (const std::string& o : overrides)
+    if (o.rfind("time.scheme=", 0) == 0) return "set on this restart";
+  return "kept from the checkpoint";
+}
+
 // The folder a run will write: the new run's -o, or for a restart its -o or else the checkpoint's
 // own folder (as plan_restart decides it, but known before the checkpoint is read).
 std::filesystem::path folder_to_write(const RunOptions& opt) {
@@ -232,6 +240,8 @@ void Simulation::Impl::log_set_up() const {
                                                         : "RKC2's longer stability interval pays where stability does");
   } else if (scene.time.scheme_auto) {
     spdlog::info("time scheme: {} (auto with a fixed time.dt: RKC2)", to_string(scene.time.scheme));
+  } else if (!opt.restart.empty()) {
+    spdlog::info("time scheme: {} ({})", to_string(scene.time.scheme), restart_scheme_origin(opt.restart_overrides));
   }
 }
 
