@@ -24,5 +24,12 @@ function(capsflow_find_python)
                   OUTPUT_VARIABLE pybind11_cmake_dir OUTPUT_STRIP_TRAILING_WHITESPACE)
   set(PYBIND11_FINDPYTHON ON)  # use the Python found above (FindPython), not pybind11's own search
   find_package(pybind11 2.6 CONFIG REQUIRED HINTS ${pybind11_cmake_dir})
+  # The package imports only in this interpreter (its numpy, its ABI): said at every configure,
+  # since `python3` on PATH may be another one (README, docs/python.md §1).
+  message(STATUS "capsflow Python package: built for ${Python_EXECUTABLE} (Python ${Python_VERSION}); import it with "
+                 "PYTHONPATH=${PROJECT_BINARY_DIR}/python ${Python_EXECUTABLE}")
   set(Python_EXECUTABLE ${Python_EXECUTABLE} PARENT_SCOPE)
+  set(Python_VERSION ${Python_VERSION} PARENT_SCOPE)
+  set(Python_VERSION_MAJOR ${Python_VERSION_MAJOR} PARENT_SCOPE)
+  set(Python_VERSION_MINOR ${Python_VERSION_MINOR} PARENT_SCOPE)
 endfunction()

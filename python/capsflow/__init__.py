@@ -17,11 +17,24 @@ import os as _os
 # it is loaded (here, with the extension module), so it is set before that.
 _os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
-from . import _core  # noqa: E402  (after the environment above)
-from . import fmm  # noqa: E402
-from .results import RunFolder, StudyFolder, read_run, read_study  # noqa: E402
-from .simulation import Progress, Simulation, SolverError, run  # noqa: E402
-from .scene import Scene  # noqa: E402
+try:
+    from . import _core  # noqa: E402  (after the environment above)
+    from . import fmm  # noqa: E402
+    from .results import RunFolder, StudyFolder, read_run, read_study  # noqa: E402
+    from .simulation import Progress, Simulation, SolverError, run  # noqa: E402
+    from .scene import Scene  # noqa: E402
+except ImportError as _error:
+    # The extension and numpy belong to the interpreter CMake chose (_build_info.py); another
+    # python3 first on PATH (pyenv, a virtual environment) lacks numpy or has another ABI.
+    import sys as _sys
+
+    from ._build_info import PYTHON_EXECUTABLE as _BUILT_FOR, PYTHON_VERSION as _BUILT_VERSION  # noqa: E402
+
+    _this = f"{_sys.version_info.major}.{_sys.version_info.minor}"
+    raise ImportError(
+        f"capsflow cannot be imported ({_error}): it was built for {_BUILT_FOR} (Python {_BUILT_VERSION}) and its "
+        f"numpy; this is {_sys.executable} (Python {_this}). Run it with {_BUILT_FOR}, or configure the build with "
+        f"-DPython_EXECUTABLE={_sys.executable} (an interpreter with numpy and pybind11)") from _error
 
 __version__ = _core.__version__
 __all__ = ["fmm", "Scene", "run", "Simulation", "SolverError", "Progress", "read_run", "read_study", "RunFolder",

@@ -61,11 +61,10 @@ class Scene:
         return _core.scene_key_docs()
 
     def set(self, key: str, value) -> "Scene":
-        """Set `key` ('section.key') to `value` (bool, number, string or list) as --set does;
-        returns the scene, so calls chain. ValueError (the scene unchanged) for a bad key or value."""
-        if not isinstance(key, str):
-            raise TypeError(f"a scene key is a string 'section.key', got {type(key).__name__}")
-        overrides = self._overrides + [f"{key}={_toml.value(value)}"]
+        """Set `key` ('section.key') to `value` (bool, number, string or list; numpy scalars and
+        arrays, 0-d ones included) as --set does; returns the scene, so calls chain. ValueError (the
+        scene unchanged) for a bad key or value; a key holding '=', '#' or a line break is refused."""
+        overrides = self._overrides + [_toml.assignment(key, value)]
         self._resolved = self._resolve(overrides)
         self._overrides = overrides
         return self

@@ -85,9 +85,7 @@ def _options(scene, out, overwrite, progress, threads, progress_interval, restar
         if not isinstance(overrides, Mapping):
             raise TypeError(f"overrides must be a dict {{'section.key': value}}, got {type(overrides).__name__}")
         for key, value in overrides.items():
-            if not isinstance(key, str):
-                raise TypeError(f"a scene key is a string 'section.key', got {type(key).__name__}")
-            assignments.append(f"{key}={_toml.value(value)}")
+            assignments.append(_toml.assignment(key, value))
     if restart is None:
         if not isinstance(scene, Scene):
             raise TypeError(f"scene must be a capsflow.Scene, got {type(scene).__name__} "

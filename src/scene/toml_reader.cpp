@@ -1,5 +1,6 @@
 #include "toml_reader.hpp"
 
+#include <cctype>
 #include <cmath>
 
 #include "capsflow/core/scene/scene.hpp"
@@ -131,19 +132,56 @@ void TomlReader::check_known(const std::map<std::string, std::set<std::string>>&
   }
 }
 
+namespace {
+
+bool has_line_break(const std::string& s) { return s.find_first_of("\n\r") != std::string::npos; }
+
+// A decimal integer as TOML writes one (sign, digits, underscores between digits).
+bool looks_like_integer(const std::string& s) {
+  std::size_t i = (!s.empty() && (s[0] == '+' || s[0] == '-')) ? 1 : 0;
+  if (i == s.size()) return false;
+  for (; i < s.size(); ++i)
+    if (!std::isdigit(static_cast<unsigned char>(s[i])) && s[i] != '_') return false;
+  return true;
+}
+
+}  // namespace
+
 std::string apply_override(toml::table& root, const std::string& assignment, const std::string& option) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw SceneError(option + " " + abbreviate(assignment) + ": expected key.path=value");
   const std::string key = assignment.substr(0, eq), value = assignment.substr(eq + 1);
   const auto dot = key.find('.');
-  if (dot == std::string::npos || key.find('.', dot + 1) != std::string::npos)
+  // '#' would start a TOML comment and a line break a second assignment: neither is in any key.
+  if (dot == std::string::npos || key.find('.', dot + 1) != std::string::npos || key.find('#') != std::string::npos ||
+      has_line_break(key))
     throw SceneError(option + " " + abbreviate(assignment) + ": key must be section.key (e.g. time.t_end)");
+  // A line break in the value once ended the value there and read the rest as another line of
+  // TOML (`--set $'time.t_end=1\nmesh.level=1'` dropped mesh.level=1 without a word).
+  if (has_line_break(value))
+    throw SceneError(option + " " + abbreviate(key) + ": the value " + abbreviate(value) +
+                     " has a line break: one key per " + option);
   const std::string sec = key.substr(0, dot), leaf = key.substr(dot + 1);
   toml::table tmp;
   try {
     tmp = toml::parse("v = " + value);
+    // '#' outside a string starts a TOML comment: `0.5#x` read as 0.5. Inside brackets the
+    // comment swallows the closing one, so only a '#' in a string still parses.
+    if (value.find('#') != std::string::npos) {
+      try {
+        (void)toml::parse("v = [" + value + "]");
+      } catch (const toml::parse_error&) {
+        throw SceneError(option + " " + abbreviate(key) + ": the value " + abbreviate(value) +
+                         " has a '#', which TOML reads as the start of a comment: quote a string that contains one");
+      }
+    }
   } catch (const toml::parse_error&) {
+    // Not a TOML value: taken as a string (--set wall.law=nh), unless it is an integer TOML
+    // cannot hold (a 31-digit integer was reported as "expected an integer, got a string").
+    if (looks_like_integer(value))
+      throw SceneError(option + " " + abbreviate(key) + ": " + abbreviate(value) +
+                       " is out of range: integers have at most 64 bits (magnitude below 9.2e18)");
     tmp = toml::table{{"v", value}};
   }
   if (!root.contains(sec)) root.insert(sec, toml::table{});

@@ -620,3 +620,19 @@ TEST(Cli, ASignalDuringTheSetUpStopsTheRunAsInterruptedAndWritesNothingHalfway) 
   }
   EXPECT_EQ(log.find("capsflow: error"), std::string::npos) << log;
 }
+
+TEST(Cli, ARestartLogsTheTimeSchemeItContinuesWith) {
+  // A restart keeps the checkpoint's time plan and says so; one that changes a key of the plan
+  // (time.scheme) resolves it anew and says why. Its log said nothing about the scheme before.
+  TempDir d;
+  const fs::path out = d.path / "out";
+  const Result first = run(std::string("run ") + kTiny + " --set time.t_end=0.02 -o " + out.string(), d.path);
+  ASSERT_EQ(first.code, 0) << first.err;
+  const std::string scheme = summary_of(out).at("scheme").get<std::string>();  // the plan's
+  const Result kept = run("run --restart " + out.string() + " --set time.t_end=0.04 --threads 2", d.path);
+  ASSERT_EQ(kept.code, 0) << kept.err;
+  EXPECT_NE(kept.out.find("time scheme: " + scheme + " (kept from the checkpoint: "), std::string::npos) << kept.out;
+  const Result changed = run("run --restart " + out.string() + " --set time.t_end=0.06 --set time.scheme=heun --threads 2", d.path);
+  ASSERT_EQ(changed.code, 0) << changed.err;
+  EXPECT_NE(changed.out.find("time scheme: heun (as the scene names it"), std::string::npos) << changed.out;
+}

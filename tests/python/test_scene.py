@@ -70,6 +70,50 @@ def test_python_values_become_toml_values():
         scene.set("mesh.level", {"a": 1})
 
 
+def test_numpy_scalars_and_zero_dimensional_arrays_are_values():
+    # docs/python.md: numpy scalars and arrays are values; a 0-d array was refused as no sequence.
+    scene = capsflow.Scene()
+    scene.set("time.t_end", np.array(0.5)).set("flow.ca_s", np.float32(0.25)).set("mesh.level", np.array(2))
+    scene.set("time.stop_at_steady", np.bool_(False)).set("wall.law", np.str_("nh"))
+    assert scene.get("time.t_end") == 0.5 and scene.get("flow.ca_s") == 0.25 and scene.get("mesh.level") == 2
+    assert scene.get("time.stop_at_steady") is False and scene.get("wall.law") == "nh"
+    assert scene.overrides[:3] == ["time.t_end=0.5", "flow.ca_s=0.25", "mesh.level=2"]
+
+
+@pytest.mark.parametrize("key", ["time.t_end=0.5#", "time.t_end#", "time.t_end\nmesh.level", "time.t_end=1"])
+def test_a_key_that_would_change_the_assignment_is_refused_naming_it(key):
+    # 'time.t_end=0.5#' with 2 became the assignment time.t_end=0.5#=2, which TOML read as
+    # t_end = 0.5 and a comment: a silent wrong value.
+    scene = capsflow.Scene()
+    before = scene.to_toml()
+    with pytest.raises(ValueError) as e:
+        scene.set(key, 2)
+    message = str(e.value)
+    assert message.startswith(f"scene key {key!r}: a key is 'section.key'") and "\n" not in message, message
+    assert scene.to_toml() == before and scene.overrides == []
+    with pytest.raises(ValueError, match="a key is 'section.key'"):  # the restart's overrides too
+        capsflow.run(None, None, restart="never-read.h5", overrides={key: 2}, log=False)
+
+
+def test_values_the_command_line_would_misread_are_refused_in_one_line(capsflow_exe):
+    scene = capsflow.Scene()
+    # An integer beyond 64 bits: "out of range", not "expected an integer, got a string".
+    with pytest.raises(ValueError) as e:
+        scene.set("mesh.level", 10**30)
+    assert str(e.value) == "--set mesh.level: 1000000000000000000000000000000 is out of range: integers have at most " \
+                           "64 bits (magnitude below 9.2e18)"
+    assert str(e.value) == cli_error(capsflow_exe, "--set", f"mesh.level={10**30}")
+    # A line break in a string value is escaped in the echo: one line.
+    with pytest.raises(ValueError) as e:
+        scene.set("wall.law", "nh\nskalak")
+    assert "\n" not in str(e.value) and "nh\\nskalak" in str(e.value), str(e.value)
+    # The command line's own --set with '#' or a line break in the value.
+    assert cli_error(capsflow_exe, "--set", "time.t_end=0.5#x").startswith(
+        "--set time.t_end: the value 0.5#x has a '#', which TOML reads as the start of a comment")
+    assert cli_error(capsflow_exe, "--set", "time.t_end=1\nmesh.level=1") == \
+        "--set time.t_end: the value 1\\nmesh.level=1 has a line break: one key per --set"
+
+
 def test_a_dict_gives_the_keys_it_names_and_defaults_for_the_rest():
     scene = capsflow.Scene({"mesh": {"level": 2}, "flow": {"type": "simple_shear", "ca_s": 0.3}})
     assert scene.get("mesh.level") == 2 and scene.get("flow.ca_s") == 0.3 and scene.get("flow.type") == "simple_shear"

@@ -91,6 +91,39 @@ TEST(Scene, OverridesApplyAndAreNamedInErrors) {
   EXPECT_NE(error_of(default_scene_toml(), {"level=3"}).find("section.key"), std::string::npos);
 }
 
+TEST(SceneErrors, OverridesThatTomlWouldReadAsSomethingElseAreRefusedInOneLineNamingTheKey) {
+  const auto one_line = [](const std::string& e) { return !e.empty() && e.find('\n') == std::string::npos; };
+  // A line break in the value ended it there; the rest was read as a second line of TOML.
+  const std::string nl = error_of(default_scene_toml(), {"time.t_end=1\nmesh.level=1"});
+  EXPECT_NE(nl.find("--set time.t_end: the value 1\\nmesh.level=1 has a line break: one key per --set"), std::string::npos) << nl;
+  EXPECT_TRUE(one_line(nl)) << nl;
+  // '#' starts a TOML comment: `0.5#=2` was read as 0.5 (what Scene.set('time.t_end=0.5#', 2) sent).
+  const std::string hash = error_of(default_scene_toml(), {"time.t_end=0.5#=2"});
+  EXPECT_NE(hash.find("--set time.t_end: the value 0.5#=2 has a '#', which TOML reads as the start of a comment"),
+            std::string::npos) << hash;
+  // ... but a '#' inside a quoted string is the string's (then refused for its type, as a string).
+  const std::string quoted = error_of(default_scene_toml(), {"time.t_end=\"0.5#\""});
+  EXPECT_NE(quoted.find("--set time.t_end: expected"), std::string::npos) << quoted;
+  EXPECT_NE(quoted.find("got a string"), std::string::npos) << quoted;
+  // Keys with '#' or a line break are no keys; the echo is escaped, the message one line.
+  for (const std::string bad : {"time.t_end#x=1", "time.t\nend=1"}) {
+    const std::string e = error_of(default_scene_toml(), {bad});
+    EXPECT_NE(e.find("key must be section.key"), std::string::npos) << e;
+    EXPECT_TRUE(one_line(e)) << e;
+  }
+  EXPECT_NE(error_of(default_scene_toml(), {"time.t\nend=1"}).find("--set time.t\\nend=1"), std::string::npos);
+  // An integer TOML cannot hold was taken as a string: "expected an integer, got a string".
+  const std::string big = error_of(default_scene_toml(), {"mesh.level=1234567890123456789012345678901"});
+  EXPECT_NE(big.find("--set mesh.level: 1234567890123456789012345678901 is out of range: integers have at most 64 bits"),
+            std::string::npos) << big;
+  EXPECT_NE(error_of(default_scene_toml(), {"time.t_end=-1_000_000_000_000_000_000_000"}).find("is out of range"),
+            std::string::npos);
+  // What was accepted before still is: unquoted strings, '#' in a string, the largest integer.
+  EXPECT_EQ(parse_scene(default_scene_toml(), "d", {"wall.law=nh"}).wall.law, shell::LawKind::NeoHookean);
+  EXPECT_NE(error_of(default_scene_toml(), {"fluid.verify_every=9223372036854775807"}).find("is out of range: must be in"),
+            std::string::npos);  // held by TOML, then refused by the key's own range
+}
+
 TEST(SceneErrors, Syntax) {
   const std::string e = error_of("[mesh]\nlevel = = 3\n");
   EXPECT_EQ(e.rfind("s.toml:2:", 0), 0u) << e;  // file and line first
