@@ -16,7 +16,7 @@ constexpr double kMixedPrecisionTolerance = 1e-5;
 // layer runs (15 000 at p = 9), which would switch too early at the boundary integral's sizes:
 // measured at 20 480 elements (sqrt(sources × targets) = 17 700), Fig. 4 at λ = 5 to γ̇t = 0.2,
 // 2 threads, the second-kind solve 0.48 s per evaluation direct against 0.55 by the FMM at p = 9;
-// at 81 920 (70 950) the FMM's application is 3× faster (perf/RESULTS.md §11.5).
+// at 81 920 (70 950) the FMM's application is 3× faster (perf/RESULTS.md §2.2).
 std::size_t stresslet_crossover(double tolerance) {
   return fmm::direct_crossover<fmm::Stresslet>(kFmmToleranceMargin * tolerance);
 }

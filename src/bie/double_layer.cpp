@@ -18,10 +18,9 @@ namespace {
 constexpr double kInv8Pi = fmm::Stresslet::scale();
 // Single-precision pairs err by ~1e-7 of the output in L2 (≤ 4e-7 of its largest entry;
 // fmm/direct_sum_mixed.hpp, tests/fmm/test_kernels.cpp); taken from an allowance of 1e-3 relative
-// to the input. With GMRES's margin of 0.01 (sessions 10–20) they were taken from 1e-5, i.e. from
-// the same residuals; taken from 1e-5 under the margin of 1, the first Krylov step of most
-// stages summed in single precision too, and GMRES needed 9 % more steps (λ = 0.01, Fig. 4 at
-// 20 480 elements to γ̇t = 0.1: 240 against 221; session 21).
+// to the input. Considered and rejected: from 1e-5 under GMRES's margin of 1 the first Krylov step
+// of most stages summed in single precision too, and GMRES needed 9 % more steps (λ = 0.01, Fig. 4
+// at 20 480 elements to γ̇t = 0.1: 240 against 221).
 constexpr double kMixedPrecisionAllowedError = 1e-3;
 // With the FMM, inexact steps take FMMs of lower orders: from each allowance (relative to the
 // density) the order that keeps a quarter of it in L2 and all of it in max (double_layer_fmm_tolerance;
@@ -29,7 +28,7 @@ constexpr double kMixedPrecisionAllowedError = 1e-3;
 // apply() returns that quarter as the error it committed (gmres.hpp's a-posteriori bound). At
 // 81 920 elements on the Fig. 4 capsule one application costs 0.076, 0.10, 0.14 and 0.20 s at
 // p = 4, 5, 6, 7 against 0.27 s at the exact p = 9 (2 threads, set-up included; perf/RESULTS.md
-// §11.4, session 21). GMRES allows target / ‖r_k‖ (gmres.hpp), so that most steps take p = 4.
+// §1.6). GMRES allows target / ‖r_k‖ (gmres.hpp), so that most steps take p = 4.
 constexpr double kInexactFmmAllowedErrors[] = {1e-2, 5e-3, 1e-3, 1e-4};  // loosest first
 constexpr double kInexactL2Share = 0.25;  // a tier's L2 error bound, as a share of its allowance
 // Single-precision pairs' L2 error relative to the density, 10× the measured 1e-7 (above).

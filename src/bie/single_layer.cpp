@@ -169,7 +169,7 @@ void SingleLayer::correct_near_field(const Points& x, const Points& q, Points& u
   {
     StokesletBatch& batch = batches_[static_cast<size_t>(omp_get_thread_num())];
     // In chunks: equal static halves of the nodes did not take equal time (cpu/wall 1.69 against
-    // 1.98 at 81 920 elements, perf/RESULTS.md §6.7); each node writes only its own row.
+    // 1.98 at 81 920 elements, perf/RESULTS.md §1.1); each node writes only its own row.
 #pragma omp for schedule(dynamic, 64)
     for (Eigen::Index i = 0; i < n_nodes_; ++i) {
       const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};

@@ -176,7 +176,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   // the D̃[1] refresh pass's and the inexact Krylov steps' four (p = 9, 10, 7, 6, 5, 4 at tolerance
   // 1e-6, the steps' built when first taken: an upper bound; the rest of the 3.29 GB peak at λ = 5 and 81 920 elements, ~0.95 GB, of which p = 5 and 4
   // add 47 MB; 2.3 GB of 4.82 before the leaf of 1 300 at p ≥ 9 took a tree level off,
-  // perf/RESULTS.md §11.4).
+  // perf/RESULTS.md §1.6).
   run["memory_double_layer_fmm_operators"] = false;
   if (run.contains("viscosity_ratio")) {
     const bool dl_fmm = run["viscosity_ratio"]["double_layer_backend"] == to_string(FarFieldBackend::Fmm);

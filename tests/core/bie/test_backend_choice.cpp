@@ -205,7 +205,7 @@ TEST(BackendChoice, TheDoubleLayersFmmOrderMeetsItsToleranceRelativeToTheDensity
     D.apply(*u, fast);
     D.apply(*u, inexact, 1e-4);
     // The promise: a quarter of the tolerance in L2 (measured 1.3e-8 and 1.7e-8 at this level:
-    // perf/RESULTS.md §11.5) ...
+    // perf/RESULTS.md §2.2) ...
     EXPECT_LT(norm(fast - exact) / norm(*u), 0.25e-6);
     // ... and of the inexact steps' allowance 1e-4 (measured 5.8e-7 and 5.7e-7).
     EXPECT_LT(norm(inexact - exact) / norm(*u), 0.25e-4);

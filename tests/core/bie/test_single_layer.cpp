@@ -126,7 +126,7 @@ TEST(SingularIntegral, CurvedElementMatchesAdaptivePolarQuadrature) {
   // Relative accuracy required of the production rules (4 × 3 points) per patch size. The
   // curvature correction is O(h) of the element integral, and the velocity on the unit sphere
   // changes by < 1e-3 of its discretisation error between these rules and 8 × 6 points
-  // (bie_bench --singular-points/--singular-radial-points, perf/RESULTS.md §3).
+  // (bie_bench --singular-points/--singular-radial-points, perf/RESULTS.md §2.1).
   const double tol_production[5] = {1e-8, 1e-8, 1e-7, 1e-4, 1e-4};  // 0.08, 0.16, 0.33, 0.6, generic
   const GaussLegendre rule_v_tight(8), rule_u_tight(6);  // the same scheme, 8 × 6 points: the issue's 1e-10
   for (size_t i = 0; i < elems.size(); ++i) {
@@ -192,7 +192,7 @@ void expect_floors(const std::array<std::array<double, 3>, 3>& err, const double
 
 // Flat facets (the paper's discretisation). Two issue floors are relaxed here, because the flat
 // geometry itself cannot meet them: integrating every element of the same polyhedron exactly
-// (scratch run, perf/RESULTS.md §3) gives 1.63e-3 at level 4 for the rotation case (floor
+// (scratch run, perf/RESULTS.md §2.1) gives 1.63e-3 at level 4 for the rotation case (floor
 // 1.5e-3) and an order of 1.79 between levels 4 and 5 for the normal load (floor 1.8).
 const std::array<std::array<double, 3>, 3>& flat_sphere_errors() {
   static const auto err = sphere_errors(SurfaceGeometry::Flat);  // shared by the two tests below

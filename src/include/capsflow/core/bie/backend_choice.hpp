@@ -43,7 +43,7 @@ inline constexpr double kFmmToleranceMargin = 0.25;
 // The single layer's FMM/direct crossover, measured with its own far field: edge-midpoint
 // sources (3 per node) summed directly by eight-lane Stokeslet blocks (single-precision pairs
 // from 1e-5, double below) against the FMM's set-up and one evaluation at the order the tolerance
-// calls for (perf/bie/crossover.sh on a quiet machine, perf/RESULTS.md §3.1, data
+// calls for (perf/bie/crossover.sh on a quiet machine, perf/RESULTS.md §1.4, data
 // perf/bie/crossover.jsonl). Rows from loose to tight; a row applies to fluid.tolerance >= its
 // tolerance. "auto" sums directly while n_src·n_trg < crossover².
 struct SingleLayerCrossoverRow {
@@ -77,7 +77,7 @@ bool uses_mixed_precision(FarFieldBackend b, double tolerance);
 // and the calibration's hardest case (random f with outward normals) asked for p = 11 at
 // fluid.tolerance = 1e-6 where p = 9 stays 7× below the need at half the cost. Worst over a smooth
 // and a random density and icosphere levels 4–6 mapped to an a/b = 2 spheroid, against the direct
-// sum (perf/bie/double_layer_fmm_order, perf/RESULTS.md §11.5): relative L2 error and max error
+// sum (perf/bie/double_layer_fmm_order, perf/RESULTS.md §2.2): relative L2 error and max error
 // relative to max |u|.
 struct DoubleLayerOrderRow {
   int order;

@@ -51,7 +51,7 @@ using GmresOperator =
 // the target whatever the margin; a larger one lets more steps take cheap images, at the risk of a
 // restart when the committed errors add up. 1 is Bouras & Frayssé's choice; on the second-kind
 // solve (whose operator commits at most a quarter of its allowance, viscosity_ratio.cpp) no
-// restart was needed at λ = 0.01, 5 and 100 (perf/RESULTS.md §11.4).
+// restart was needed at λ = 0.01, 5 and 100 (perf/RESULTS.md §1.6).
 inline constexpr double kGmresInexactMargin = 1.0;
 
 // Solves A x = b from the initial guess in x. `scale` > 0 sets the absolute target
