@@ -142,6 +142,7 @@ void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
   extra["time_plan"] = plan.to_json();
   extra["health"] = health->state();
   stepper->save(extra, ck.integrator_state);
+  dyn->save_fluid_state(extra, ck.fluid_state);
   if (far_check->enabled()) extra[far_check->name()] = far_check->state(dyn->single_layer());
   if (dl_far_check->enabled())
     extra[dl_far_check->name()] = dl_far_check->state(dyn->viscosity_ratio_solver()->double_layer());

@@ -192,6 +192,7 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
   steady->set_history(ck.history);
   const auto e = nlohmann::json::parse(ck.extra);
   st.set_extra(e);
+  dyn->load_fluid_state(e, ck.fluid_state);  // the second-kind solve's warm starts (λ ≠ 1)
   if (e.contains(far_check->name())) far_check->set_state(e.at(far_check->name()));
   if (e.contains(dl_far_check->name())) dl_far_check->set_state(e.at(dl_far_check->name()));
   // A changed output.every or checkpoint_every counts its index from the checkpoint time.

@@ -47,6 +47,7 @@ std::string checksum(const CheckpointState& s) {
   h.add_matrix(s.wall_state);
   h.add_matrix(s.history);
   if (s.integrator_state.size() > 0) h.add_matrix(s.integrator_state);  // older files have none
+  h.add_matrix(s.fluid_state);
   for (const std::string* str : {&s.scene_toml, &s.scene_resolved, &s.version, &s.extra}) {
     h.add_string(*str);
   }
@@ -70,6 +71,7 @@ void write_file(const fs::path& tmp, const CheckpointState& s) {
   f.write_vector("wall_state", s.wall_state);
   f.write_matrix("history", s.history);
   f.write_matrix("integrator_state", s.integrator_state);
+  f.write_matrix("fluid_state", s.fluid_state);
   f.write_string("scene_toml", s.scene_toml);
   f.write_string("scene_resolved", s.scene_resolved);
   f.write_string("extra", s.extra);
@@ -133,6 +135,7 @@ void validate_checkpoint(const CheckpointState& s, const std::string& name) {
   if (!all_finite(s.wall_state)) fail(name, "wall_state contains NaN or infinity");
   if (!all_finite(s.history)) fail(name, "history contains NaN or infinity");
   if (!all_finite(s.integrator_state)) fail(name, "integrator_state contains NaN or infinity");
+  if (!all_finite(s.fluid_state)) fail(name, "fluid_state contains NaN or infinity");
 }
 
 void write_checkpoint(const fs::path& path, const CheckpointState& state) {
@@ -203,6 +206,7 @@ CheckpointState read_checkpoint(const fs::path& path) {
     s.wall_state = f.read_vector<double>("wall_state");
     s.history = f.read_matrix<double>("history");
     if (f.exists("integrator_state")) s.integrator_state = f.read_matrix<double>("integrator_state");
+    s.fluid_state = f.read_matrix<double>("fluid_state");
     s.scene_toml = f.read_string("scene_toml");
     s.scene_resolved = f.read_string("scene_resolved");
     s.extra = f.read_string("extra");

@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include <nlohmann/json.hpp>
+
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/rhs/volume_constraint.hpp"
 #include "capsflow/core/rhs/wall_factory.hpp"
@@ -14,6 +16,7 @@ CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& referenc
     : L_(scene.flow.gradient),
       volume_correction_(scene.fluid.volume_correction),
       tri_(reference.triangles),
+      n_nodes_(reference.num_nodes()),
       wall_(wall ? std::move(wall) : make_wall(scene, reference)),
       mass_(reference.triangles, reference.num_nodes()),
       bie_(reference.triangles, reference.num_nodes(), boundary_integral_options(scene, threads)) {
@@ -95,6 +98,54 @@ void CapsuleDynamics::restore(Carry c) {
   wall_->set_state(c.wall);
   q_ = std::move(c.load);
   if (viscosity_) viscosity_->set_warm_start(std::move(c.viscosity));
+}
+
+namespace {
+constexpr Eigen::Index kWarmStartColumns = 9, kIdentityRecordColumns = 24;  // per node
+using NodeRows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+}  // namespace
+
+void CapsuleDynamics::save_fluid_state(nlohmann::json& extra, Eigen::MatrixXd& matrix) const {
+  matrix.resize(0, 0);
+  if (!viscosity_) return;
+  const ViscosityRatioSolver::WarmStart w = viscosity_->warm_start();
+  const DoubleLayer& D = viscosity_->double_layer();
+  const std::vector<double>& records = D.identity_records();
+  const Eigen::Index n = n_nodes_;
+  const bool warm = w.valid && w.y.size() == 3 * n && w.b.size() == 3 * n && w.residual.size() == 3 * n;
+  const int count = static_cast<Eigen::Index>(records.size()) == kIdentityRecordColumns * n ? D.identity_record_count() : 0;
+  extra["fluid_state"] = {{"warm_start", warm}, {"identity_records", count}};
+  const Eigen::Index cols = (warm ? kWarmStartColumns : 0) + (count > 0 ? kIdentityRecordColumns : 0);
+  matrix.resize(cols > 0 ? n : 0, cols);
+  Eigen::Index c = 0;
+  if (warm)
+    for (const Eigen::VectorXd* v : {&w.y, &w.b, &w.residual}) matrix.middleCols(c, 3) = Points::Map(v->data(), n, 3), c += 3;
+  if (count > 0) matrix.middleCols(c, kIdentityRecordColumns) = NodeRows::Map(records.data(), n, kIdentityRecordColumns);
+}
+
+void CapsuleDynamics::load_fluid_state(const nlohmann::json& extra, const Eigen::MatrixXd& matrix) {
+  if (!viscosity_ || !extra.contains("fluid_state")) return;
+  const nlohmann::json& f = extra.at("fluid_state");
+  const bool warm = f.at("warm_start").get<bool>();
+  const int count = f.at("identity_records").get<int>();
+  const Eigen::Index n = n_nodes_;
+  const Eigen::Index cols = (warm ? kWarmStartColumns : 0) + (count > 0 ? kIdentityRecordColumns : 0);
+  if (cols == 0 || matrix.rows() != n || matrix.cols() != cols) return;
+  Eigen::Index c = 0;
+  if (warm) {
+    ViscosityRatioSolver::WarmStart w;
+    for (Eigen::VectorXd* v : {&w.y, &w.b, &w.residual}) {
+      v->resize(3 * n);
+      Points::Map(v->data(), n, 3) = matrix.middleCols(c, 3), c += 3;
+    }
+    w.valid = true;
+    viscosity_->set_warm_start(std::move(w));
+  }
+  if (count > 0) {
+    std::vector<double> records(static_cast<size_t>(kIdentityRecordColumns * n));
+    NodeRows::Map(records.data(), n, kIdentityRecordColumns) = matrix.middleCols(c, kIdentityRecordColumns);
+    viscosity_->set_identity_records(records, count);  // refused by another back end: D̃[1] refreshes afresh
+  }
 }
 
 void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint& hint) {

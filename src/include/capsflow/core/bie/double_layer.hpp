@@ -132,6 +132,17 @@ class DoubleLayer {
   std::size_t identity_samples() const { return samples_.size(); }
   const std::vector<int>& identity_sample_nodes() const { return samples_; }
   int refresh_fmm_order() const;  // the refresh pass's FMM order (fmm_order() if not above it)
+  // The reuse's records (per node E1, C1, E0, E−1 in the local frames; empty without the reuse) and
+  // how many refreshes they hold: all that a set-up carries to the next, which a checkpoint keeps
+  // so that a restarted run continues bit for bit. set_identity_records puts them back; records of
+  // another size (another back end or mesh) are refused: false, nothing changed.
+  const std::vector<double>& identity_records() const { return refreshed_; }
+  int identity_record_count() const { return refresh_records_; }
+  bool set_identity_records(const std::vector<double>& records, int count) {
+    if (records.size() != refreshed_.size() || count < 0 || count > 3) return false;
+    refreshed_ = records, refresh_records_ = records.empty() ? 0 : count;
+    return true;
+  }
 
  private:
   void build_near_pattern();

@@ -85,7 +85,9 @@ class ViscosityRatioSolver {
   // (gmres.hpp): each costs an exact application; none is the expected case.
   long bound_restarts() const { return bound_restarts_; }
   // The next trajectory solve's warm start, to put back after a solve off the trajectory (an
-  // output between two steps).
+  // output between two steps). With D̃[1]'s reuse records (DoubleLayer::identity_records) it is all
+  // that a trajectory solve carries to the next: a checkpoint keeps both
+  // (CapsuleDynamics::save_fluid_state), so that a restarted run continues bit for bit.
   struct WarmStart {
     Eigen::VectorXd y, b, residual;
     bool valid = false;
@@ -95,6 +97,7 @@ class ViscosityRatioSolver {
     previous_y_ = std::move(w.y), previous_b_ = std::move(w.b), previous_residual_ = std::move(w.residual);
     have_previous_ = w.valid;
   }
+  bool set_identity_records(const std::vector<double>& records, int count) { return D_.set_identity_records(records, count); }
 
  private:
   double lambda_, kappa_;

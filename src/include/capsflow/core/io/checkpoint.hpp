@@ -8,14 +8,15 @@
 // the new one, the previous one, or (between the two renames) the previous one in its slot;
 // find_latest_checkpoint picks the right one.
 //
-// File layout (HDF5, format_version 1):
+// File layout (HDF5, format_version 3):
 //   attributes on "/": format = "capsflow-checkpoint", format_version, step, t, dt, version,
 //                      run_id (io/run_identity.hpp; absent before run ids), mesh_hash (for
 //                      readers), checksum (FNV-1a 64 of the whole state, hex; verified on read)
 //   datasets: positions [N,3], reference_positions [N,3], triangles int32 [M,3],
 //             wall_state [n] (opaque), history [r,c] (opaque), scene_toml, scene_resolved,
 //             extra (strings); integrator_state [r,c] (opaque; optional: absent in files written
-//             before it existed, which read as empty, and left out of the checksum when empty)
+//             before it existed, which read as empty, and left out of the checksum when empty);
+//             fluid_state [r,c] (opaque; empty at λ = 1)
 // Doubles are stored as float64 and read back bit for bit.
 #include <Eigen/Core>
 #include <cstdint>
@@ -30,8 +31,9 @@ namespace capsflow::io {
 
 // The checkpoint format this build writes and reads; any other is refused (no compatibility code).
 // 2: the run's time plan under extra["time_plan"], the stabilised stepper's state under
-// extra["stabilized_step"], every run-state entry required.
-inline constexpr std::int64_t kCheckpointFormatVersion = 2;
+// extra["stabilized_step"], every run-state entry required. 3: the fluid solve's state (λ ≠ 1: the
+// second-kind solve's warm start, D̃[1]'s reuse records) as fluid_state and extra["fluid_state"].
+inline constexpr std::int64_t kCheckpointFormatVersion = 3;
 inline constexpr const char* kCheckpointFile = "checkpoint.h5";
 
 struct CheckpointState {
@@ -44,6 +46,7 @@ struct CheckpointState {
   Eigen::VectorXd wall_state;  // opaque to io (e.g. nodal directors); any length, may be empty
   Eigen::MatrixXd history;     // opaque to io (e.g. steady-state window samples); may be empty
   Eigen::MatrixXd integrator_state;  // opaque to io (e.g. RKC's F(y_n)); may be empty
+  Eigen::MatrixXd fluid_state;       // opaque to io (the fluid solve's warm starts); may be empty
   std::string scene_toml;      // the input scene, verbatim
   std::string scene_resolved;  // the fully resolved scene, JSON text
   std::string version;         // capsflow version + git hash that wrote it

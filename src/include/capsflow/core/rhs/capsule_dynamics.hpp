@@ -18,6 +18,7 @@
 // throws SolverFailure with a one-line description.
 #include <array>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/bie/viscosity_ratio.hpp"
@@ -84,6 +85,15 @@ class CapsuleDynamics final : public RightHandSide {
   Carry carry() const;
   void restore(Carry c);
 
+  // What the fluid solve carries from one trajectory evaluation to the next, for checkpoints (λ ≠ 1:
+  // the second-kind solve's warm start and D̃[1]'s reuse records; nothing at λ = 1): the flags
+  // under extra["fluid_state"], the vectors as the columns of `matrix`, one row per node (y, b and
+  // the residual of the warm start, 3 columns each, then the 24 of the records). A run continued
+  // from them continues bit for bit. load_fluid_state takes what fits this right-hand side and
+  // leaves the rest to start afresh (a restart that switched the back end).
+  void save_fluid_state(nlohmann::json& extra, Eigen::MatrixXd& matrix) const;
+  void load_fluid_state(const nlohmann::json& extra, const Eigen::MatrixXd& matrix);
+
   const Points& load() const { return q_; }
   shell::Wall& wall() { return *wall_; }
   const shell::Wall& wall() const { return *wall_; }
@@ -103,6 +113,7 @@ class CapsuleDynamics final : public RightHandSide {
   Mat3 L_;
   bool volume_correction_;
   Triangles tri_;
+  Eigen::Index n_nodes_;
   std::unique_ptr<shell::Wall> wall_;
   shell::LoadRecovery mass_;
   SingleLayer bie_;
