@@ -21,7 +21,7 @@ using namespace capsflow;
 namespace {
 
 Points apply(const SurfaceMesh& m, const Points& x, const Points& u, int ring, int band, FarFieldRule rule) {
-  SingleLayerOptions o;
+  DoubleLayerOptions o;
   o.backend = BackendRequest::Direct;
   o.near_ring_layers = ring;
   o.corrected_layers = band;

@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     x.col(2) *= 2.0;  // a/b = 2: no exact symmetry helps
     for (Eigen::Index i = 0; i < x.rows(); ++i)
       u.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
-    SingleLayerOptions o;
+    DoubleLayerOptions o;
     o.backend = from_string<BackendRequest>(backend).value();
     o.tolerance = tol;
     o.reuse_identity_term = reuse;

@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     Points smooth(m.num_nodes(), 3), rough = Points::Random(m.num_nodes(), 3);
     for (Eigen::Index i = 0; i < x.rows(); ++i)
       smooth.row(i) << x(i, 1) - 0.3 * x(i, 2), x(i, 0) * x(i, 2), 1.0 + x(i, 0) * x(i, 0);
-    SingleLayerOptions direct;
+    DoubleLayerOptions direct;
     direct.backend = BackendRequest::Direct;
     direct.reuse_identity_term = false;
     DoubleLayer ref(m.triangles, m.num_nodes(), direct);
@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
     std::vector<Points> refs(dens.size());
     for (size_t k = 0; k < dens.size(); ++k) ref.apply(dens[k], refs[k]);
     for (int p : orders) {
-      SingleLayerOptions o = direct;
+      DoubleLayerOptions o = direct;
       o.backend = BackendRequest::Fmm;
       o.fmm_order = p;
       DoubleLayer D(m.triangles, m.num_nodes(), o);

@@ -92,18 +92,17 @@ inline void rule_point(const QuadraticTriangle& T, const double* l, double w, do
 }
 }  // namespace
 
-DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt)
+DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const DoubleLayerOptions& opt)
     : tri_(triangles),
       n_nodes_(n_nodes),
       opt_(opt),
-      threads_(opt.threads > 0 ? opt.threads : omp_get_max_threads()),
+      threads_(layer_threads(opt)),
       far_rule_(far_field_rule(opt)),
       rule_(opt.singular_points),
       rule_u_(opt.singular_radial_points),
-      lists_(triangles, n_nodes, near_ring_layers(opt), double_layer_corrected_layers(opt)),
+      lists_(triangles, n_nodes, near_ring_layers(opt), corrected_layers(opt, near_ring_layers(opt), kAutoDoubleLayerCorrectedLayers)),
       surface_(triangles, opt.geometry),
       source_slots_(far_field_source_slots(lists_, triangles.rows(), far_rule_ == FarFieldRule::EdgeMidpoints)) {
-  if (opt.near_ring_depth > 0) throw std::invalid_argument("double layer: near_ring_depth > 0 is not supported");
   backend_ = choose_backend(opt.backend, FarFieldKernel::DoubleLayer, far_field_sources(), n_nodes, opt.tolerance, &reason_);
   double fmm_tolerance = 0;  // the iterations' FMM's (the refresh pass's below takes its own if stricter)
   if (backend_ == FarFieldBackend::Fmm) {

@@ -20,40 +20,19 @@ namespace {
 constexpr double kInv8Pi = fmm::Stokeslet::scale();
 }  // namespace
 
-FarFieldRule far_field_rule(const SingleLayerOptions& o) {
-  if (o.far_rule != FarFieldRule::Auto) return o.far_rule;
-  return o.geometry == SurfaceGeometry::Curved ? FarFieldRule::GaussPoints : FarFieldRule::EdgeMidpoints;
-}
-
-Eigen::Index far_field_source_count(const SingleLayerOptions& o, Eigen::Index elements, Eigen::Index edges) {
-  return far_field_rule(o) == FarFieldRule::EdgeMidpoints ? edges : 3 * elements;
-}
-
-int near_ring_layers(const SingleLayerOptions& o) {
-  if (o.near_ring_depth < 0) return 0;
-  return o.near_ring_layers > 0 ? o.near_ring_layers : (o.geometry == SurfaceGeometry::Curved ? 2 : 1);
-}
-
 namespace {
-int corrected_layers_or(const SingleLayerOptions& o, int automatic) {
-  // A band would integrate with the Gauss-point far field's own rule: none then.
-  if (far_field_rule(o) == FarFieldRule::GaussPoints) return near_ring_layers(o);
-  return std::max(near_ring_layers(o), o.corrected_layers > 0 ? o.corrected_layers : automatic);
-}
+int ring_layers(const SingleLayerOptions& o) { return o.near_ring_depth < 0 ? 0 : near_ring_layers(o); }
 }  // namespace
-
-int corrected_layers(const SingleLayerOptions& o) { return corrected_layers_or(o, kAutoCorrectedLayers); }
-int double_layer_corrected_layers(const SingleLayerOptions& o) { return corrected_layers_or(o, kAutoDoubleLayerCorrectedLayers); }
 
 SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt)
     : tri_(triangles),
       n_nodes_(n_nodes),
       opt_(opt),
-      threads_(opt.threads > 0 ? opt.threads : omp_get_max_threads()),
+      threads_(layer_threads(opt)),
       far_rule_(far_field_rule(opt)),
       rule_(opt.singular_points),
       rule_u_(opt.geometry == SurfaceGeometry::Curved ? opt.singular_radial_points : 1),
-      lists_(triangles, n_nodes, near_ring_layers(opt), corrected_layers(opt)),
+      lists_(triangles, n_nodes, ring_layers(opt), corrected_layers(opt, ring_layers(opt), kAutoCorrectedLayers)),
       surface_(triangles, opt.geometry),
       source_slots_(far_field_source_slots(lists_, triangles.rows(), far_rule_ == FarFieldRule::EdgeMidpoints)) {
   if (opt.singular_radial_points > 16)

@@ -38,8 +38,8 @@ Eigen::Map<const VectorXd> flat(const Points& p) { return {p.data(), p.size()}; 
 }  // namespace
 
 ViscosityRatioSolver::ViscosityRatioSolver(const Triangles& triangles, Eigen::Index n_nodes, double lambda,
-                                           const SingleLayerOptions& bie_options, const GmresOptions& gmres_options)
-    : lambda_(lambda), kappa_((1 - lambda) / (1 + lambda)), D_(triangles, n_nodes, bie_options), gmres_(gmres_options) {
+                                           const DoubleLayerOptions& dl_options, const GmresOptions& gmres_options)
+    : lambda_(lambda), kappa_((1 - lambda) / (1 + lambda)), D_(triangles, n_nodes, dl_options), gmres_(gmres_options) {
   if (!(lambda > 0) || !std::isfinite(lambda)) throw std::invalid_argument("viscosity ratio: λ must be finite and > 0");
 }
 

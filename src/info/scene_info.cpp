@@ -71,7 +71,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   run["fmm_order_warning"] = unused_fmm_order_note(scene, b);
   if (scene.fluid.viscosity_ratio != 1.0) {
     // The second-kind solve (docs/boundary-integral.md §4.8); its near-field lists depend on the geometry only.
-    SingleLayerOptions dl_options = boundary_integral_options(scene);
+    DoubleLayerOptions dl_options = double_layer_options(scene);
     dl_options.backend = BackendRequest::Direct;  // the near field's size only (no FMM set-up here)
     const DoubleLayer dl(mesh.triangles, mesh.num_nodes(), dl_options);
     std::string dl_why;  // the run's choice: by fluid.backend, or the stresslet FMM's crossover

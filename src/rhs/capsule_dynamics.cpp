@@ -25,7 +25,7 @@ CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& referenc
     go.tolerance = scene.fluid.tolerance;  // the far field's promise, relative to the velocity (§4.8.3)
     go.max_iterations = scene.fluid.max_gmres;
     viscosity_ = std::make_unique<ViscosityRatioSolver>(reference.triangles, reference.num_nodes(),
-                                                        scene.fluid.viscosity_ratio, boundary_integral_options(scene, threads), go);
+                                                        scene.fluid.viscosity_ratio, double_layer_options(scene, threads), go);
   }
 }
 

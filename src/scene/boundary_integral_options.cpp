@@ -2,8 +2,9 @@
 
 namespace capsflow {
 
-SingleLayerOptions boundary_integral_options(const Scene& s, int threads) {
-  SingleLayerOptions o;
+namespace {
+// What both layers read of fluid.*.
+void set_layer_options(const Scene& s, int threads, LayerOptions& o) {
   o.backend = s.fluid.backend;
   o.tolerance = s.fluid.tolerance;
   o.geometry = s.fluid.geometry;
@@ -11,8 +12,20 @@ SingleLayerOptions boundary_integral_options(const Scene& s, int threads) {
   o.fmm_order = s.fluid.fmm_order;
   o.fmm_leaf_size = s.fluid.fmm_leaf_size;
   o.verify_every = s.fluid.verify_every;
-  o.reuse_identity_term = s.fluid.reuse_identity_term;
   o.threads = threads;
+}
+}  // namespace
+
+SingleLayerOptions boundary_integral_options(const Scene& s, int threads) {
+  SingleLayerOptions o;
+  set_layer_options(s, threads, o);
+  return o;
+}
+
+DoubleLayerOptions double_layer_options(const Scene& s, int threads) {
+  DoubleLayerOptions o;
+  set_layer_options(s, threads, o);
+  o.reuse_identity_term = s.fluid.reuse_identity_term;
   return o;
 }
 

@@ -188,12 +188,12 @@ TEST(BackendChoice, TheDoubleLayersFmmOrderMeetsItsToleranceRelativeToTheDensity
   }
   const Eigen::VectorXd w = nodal_areas(m);
   auto norm = [&](const Points& v) { return std::sqrt((w.array() * v.rowwise().squaredNorm().array()).sum()); };
-  SingleLayerOptions direct;
+  DoubleLayerOptions direct;
   direct.backend = BackendRequest::Direct;
   direct.reuse_identity_term = false;
   DoubleLayer ref(m.triangles, m.num_nodes(), direct);
   ref.set_surface(m.vertices);
-  SingleLayerOptions fmm_opt = direct;
+  DoubleLayerOptions fmm_opt = direct;
   fmm_opt.backend = BackendRequest::Fmm;
   DoubleLayer D(m.triangles, m.num_nodes(), fmm_opt);
   D.set_surface(m.vertices);
@@ -300,7 +300,9 @@ TEST(BackendChoice, TheOperatorsCountOneSourcePerEdgeOrThreePerCurvedElement) {
       EXPECT_EQ(S.backend(), choose_backend(BackendRequest::Auto, FarFieldKernel::SingleLayer, sources, m.num_nodes(),
                                             o.tolerance, nullptr))
           << level;
-      const DoubleLayer D(m.triangles, m.num_nodes(), o);
+      DoubleLayerOptions dl_o;
+      dl_o.geometry = g;
+      const DoubleLayer D(m.triangles, m.num_nodes(), dl_o);
       EXPECT_EQ(D.far_field_sources(), sources);
       EXPECT_EQ(D.backend(), choose_backend(BackendRequest::Auto, FarFieldKernel::DoubleLayer, sources, m.num_nodes(),
                                             o.tolerance, nullptr))

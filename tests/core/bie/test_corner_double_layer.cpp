@@ -119,7 +119,7 @@ TEST(CornerDoubleLayer, IsTheLimitOfTheDoubleLayersUnitConstantIntegral) {
     const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, level);
     Points x = m.vertices;
     x.col(2) *= 1.5;  // a spheroid: curvature varies, no symmetry hides an error
-    SingleLayerOptions opt;
+    DoubleLayerOptions opt;
     opt.backend = BackendRequest::Direct;
     opt.reuse_identity_term = false;
     DoubleLayer D(m.triangles, m.num_nodes(), opt);
@@ -151,7 +151,7 @@ ReuseCheck reuse_after(const std::function<Points(const Points&)>& move) {
   Points x = m.vertices;
   x.col(2) *= 1.5;
   const Points y = move(x);
-  SingleLayerOptions opt;
+  DoubleLayerOptions opt;
   opt.backend = BackendRequest::Fmm;  // the reuse is the FMM back end's
   opt.fmm_order = 12;                 // far below the drifts measured here, whatever the tolerance
   opt.tolerance = 1e-4;
@@ -227,12 +227,12 @@ TEST(DoubleLayerIdentityReuse, ALocalJumpBetweenTheSamplesForcesARefresh) {
   const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
   Points x = m.vertices;
   x.col(2) *= 1.5;
-  SingleLayerOptions opt;
+  DoubleLayerOptions opt;
   opt.backend = BackendRequest::Fmm;
   opt.fmm_order = 10;
   opt.tolerance = 1e-2;
   auto full_pass = [&](const Points& y) {
-    SingleLayerOptions o = opt;
+    DoubleLayerOptions o = opt;
     o.reuse_identity_term = false;
     auto F = std::make_unique<DoubleLayer>(m.triangles, m.num_nodes(), o);
     F->set_surface(y);
@@ -285,7 +285,7 @@ TEST(DoubleLayerIdentityReuse, ASetUpOffTheTrajectoryNeverRefreshes) {
   Points x1 = x, y = x;
   x1.col(0) *= 1 + 1e-5;
   y.col(0) *= 1.001;
-  SingleLayerOptions opt;
+  DoubleLayerOptions opt;
   opt.backend = BackendRequest::Fmm;
   opt.fmm_order = 12;
   DoubleLayer D(m.triangles, m.num_nodes(), opt);
@@ -318,12 +318,12 @@ TEST(DoubleLayerIdentityReuse, ExtrapolatedAlongACurvedPathStaysWithinTheAllowan
     const Eigen::Matrix3d Q = Eigen::AngleAxisd(0.5 * t, Vec3(1, 2, 3).normalized()).toRotationMatrix();
     return Points(y * Q.transpose());
   };
-  SingleLayerOptions opt;
+  DoubleLayerOptions opt;
   opt.backend = BackendRequest::Fmm;
   opt.fmm_order = 10;  // its error (~1e-8) far below the allowance: the comparison sees the drift
   opt.tolerance = 1e-6;
   DoubleLayer D(m.triangles, m.num_nodes(), opt);
-  SingleLayerOptions full = opt;
+  DoubleLayerOptions full = opt;
   full.reuse_identity_term = false;
   DoubleLayer F(m.triangles, m.num_nodes(), full);
   double worst = 0;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "capsflow/core/bie/double_layer.hpp"
+#include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/mesh/generation.hpp"
 #include "capsflow/fmm/direct_sum_mixed.hpp"
 #include "support/gauss_kronrod.hpp"
@@ -109,7 +110,7 @@ std::vector<std::array<double, 3>> sphere_errors(SurfaceGeometry geometry) {
   std::vector<std::array<double, 3>> err(fields.size());
   for (int level = 3; level <= 5; ++level) {
     const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, level);
-    SingleLayerOptions opt;
+    DoubleLayerOptions opt;
     opt.backend = BackendRequest::Direct;
     opt.geometry = geometry;
     DoubleLayer D(m.triangles, m.num_nodes(), opt);
@@ -189,8 +190,10 @@ std::array<double, 3> identity_residuals(double aspect, SurfaceGeometry geometry
     SingleLayerOptions opt;
     opt.backend = BackendRequest::Direct;
     opt.geometry = geometry;
+    DoubleLayerOptions dl_opt;
+    static_cast<LayerOptions&>(dl_opt) = opt;  // the same far field and surface
     SingleLayer S(m.triangles, m.num_nodes(), opt);
-    DoubleLayer D(m.triangles, m.num_nodes(), opt);
+    DoubleLayer D(m.triangles, m.num_nodes(), dl_opt);
     // Exact outward normals at the nodes: the unit sphere's nodes scaled by the semi-axes.
     Points u(m.num_nodes(), 3), f(m.num_nodes(), 3), Su, Du;
     Vec3 semi;
@@ -238,7 +241,7 @@ TEST(DoubleLayerSphere, FmmFarFieldMatchesTheDirectSum) {
   for (Eigen::Index i = 0; i < u.rows(); ++i) u.row(i) = field.u(m.vertices.row(i).transpose()).transpose();
   Points out[2];
   for (int k = 0; k < 2; ++k) {
-    SingleLayerOptions opt;
+    DoubleLayerOptions opt;
     opt.backend = k == 0 ? BackendRequest::Direct : BackendRequest::Fmm;
     opt.tolerance = 1e-6;
     DoubleLayer D(m.triangles, m.num_nodes(), opt);
@@ -279,7 +282,7 @@ TEST(DoubleLayerSpheroid, SetUpWithItsFirstApplicationEqualsSetUpThenApply) {
   Points v(m.num_nodes(), 3);
   for (Eigen::Index i = 0; i < x.rows(); ++i) v.row(i) << std::sin(x(i, 0)), x(i, 1) * x(i, 1), -x(i, 2);
   for (BackendRequest b : {BackendRequest::Direct, BackendRequest::Fmm}) {
-    SingleLayerOptions opt;
+    DoubleLayerOptions opt;
     opt.backend = b;
     opt.tolerance = 1e-6;
     DoubleLayer A(m.triangles, m.num_nodes(), opt), B(m.triangles, m.num_nodes(), opt);
@@ -307,7 +310,7 @@ TEST(DoubleLayerSpheroid, DirectSetUpPassWithFmmApplicationsMatchesTheDirectOper
   const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 5);
   Points x = spheroid_nodes(m);
   const Points u = field_without_symmetry(x);
-  SingleLayerOptions opt;
+  DoubleLayerOptions opt;
   opt.tolerance = 1e-3;
   // Every set-up computes D̃[1] in full: the moved surface is a uniform stretch, which the sampled
   // reuse (DoubleLayerIdentityReuse tests) may carry to within the tolerance, not to round-off.
@@ -343,7 +346,7 @@ TEST(DoubleLayerSpheroid, InexactApplicationsStayWellWithinTheAllowedError) {
     const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, level);
     const Points x = spheroid_nodes(m), u = field_without_symmetry(x);
     const Points rough = Points::Random(m.num_nodes(), 3);
-    SingleLayerOptions opt;
+    DoubleLayerOptions opt;
     opt.backend = BackendRequest::Direct;
     opt.tolerance = 1e-6;
     DoubleLayer D(m.triangles, m.num_nodes(), opt);
@@ -373,7 +376,7 @@ TEST(DoubleLayerSpheroid, InexactFmmApplicationsStayWithinTheAllowedError) {
   const SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
   const Points x = spheroid_nodes(m), u = field_without_symmetry(x);
   const Points rough = Points::Random(m.num_nodes(), 3);
-  SingleLayerOptions opt;
+  DoubleLayerOptions opt;
   opt.backend = BackendRequest::Fmm;
   opt.tolerance = 1e-6;
   DoubleLayer D(m.triangles, m.num_nodes(), opt);

@@ -27,8 +27,9 @@ SphereCase sphere(int level) {
   return c;
 }
 
-SingleLayerOptions direct(SurfaceGeometry g) {
-  SingleLayerOptions o;
+template <class Options = DoubleLayerOptions>
+Options direct(SurfaceGeometry g) {
+  Options o;
   o.backend = BackendRequest::Direct;
   o.geometry = g;
   return o;
@@ -108,7 +109,7 @@ TEST(ViscosityRatioSphere, PrescribedLoadWithoutFlow) {
       gradY.row(i) = (Vec3(p.y(), p.x(), 0) - 2 * Y * p).transpose();  // ∇H − 2H x on r = 1
     }
     q = Yn;
-    SingleLayer S(s.mesh.triangles, s.mesh.num_nodes(), direct(g));
+    SingleLayer S(s.mesh.triangles, s.mesh.num_nodes(), direct<SingleLayerOptions>(g));
     S.apply(x, q, v1);
     v1 = -v1;
     Eigen::Matrix2d D2;

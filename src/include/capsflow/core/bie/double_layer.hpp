@@ -5,7 +5,7 @@
 //   T_ijk(r) = −6 r_i r_j r_k/|r|⁵,  r = x − y,  n the outward normal,
 //
 // for a velocity u linear on each element (nodal values u_k), discretised exactly as the single
-// layer (single_layer.hpp: same options, far-field rule and sources, near-field lists, surface).
+// layer (single_layer.hpp: the options both share, far-field rule and sources, near-field lists, surface).
 // With this sign D[c] = c/2 for a constant c at every smooth point of a closed surface (the
 // Gauss-type identity PV∫ T(x − y)·n dS = 4π I). The operator is
 //   D_h[u](x_i) = ½ u_i + D̃[u](x_i) − D̃[1](x_i) u_i,
@@ -37,6 +37,7 @@
 
 #include "capsflow/core/bie/boundary_surface.hpp"
 #include "capsflow/core/bie/corner_double_layer.hpp"
+#include "capsflow/core/bie/layer_options.hpp"
 #include "capsflow/core/bie/near_field.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
 #include "capsflow/core/bie/single_layer.hpp"
@@ -51,11 +52,21 @@ template <class K>
 class Fmm;
 }  // namespace fmm
 
+// The double layer's options: those both layers share (layer_options.hpp) and the reuse of D̃[1].
+struct DoubleLayerOptions : LayerOptions {
+  // Reuse D̃[1]'s quadrature error between refreshes on flat facets with the FMM back end
+  // (docs/boundary-integral.md §4.7.5); false: a full pass on every set-up.
+  bool reuse_identity_term = true;
+};
+
+// The automatic corrected layers (docs/boundary-integral.md §4.7.3): a band would buy about 1 % of
+// the double layer's discretisation error for two thirds of its near-field work
+// (perf/bie/double_layer_band), so none beyond the near ring.
+inline constexpr int kAutoDoubleLayerCorrectedLayers = 1;
+
 class DoubleLayer {
  public:
-  // The single layer's options: far-field back end, rule and tolerance, geometry, singular points,
-  // near-ring and corrected layers, threads (near_ring_depth > 0 is not supported here).
-  DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const SingleLayerOptions& opt = {});
+  DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const DoubleLayerOptions& opt = {});
   ~DoubleLayer();
   DoubleLayer(DoubleLayer&&) noexcept;
 
@@ -79,7 +90,7 @@ class DoubleLayer {
   FarFieldBackend backend() const { return backend_; }
   const std::string& backend_reason() const { return reason_; }
   int fmm_order() const;  // 0 with the direct far field
-  // Direct checks of the far field (SingleLayerOptions::verify_every): on every verify_every-th
+  // Direct checks of the far field (LayerOptions::verify_every): on every verify_every-th
   // set_surface() (the first one included) the far field of the unit constants, D̃[1] (the
   // symmetric 3×3 per node), and that of the first application when set_surface is given u — both
   // summed by the same FMM (set-up, operators, order) as every apply() on that surface — are summed
@@ -157,7 +168,7 @@ class DoubleLayer {
 
   Triangles tri_;
   Eigen::Index n_nodes_;
-  SingleLayerOptions opt_;
+  DoubleLayerOptions opt_;
   int threads_;
   FarFieldRule far_rule_;
   GaussLegendre rule_, rule_u_;

@@ -25,6 +25,7 @@
 
 #include "capsflow/core/bie/backend_choice.hpp"
 #include "capsflow/core/bie/boundary_surface.hpp"
+#include "capsflow/core/bie/layer_options.hpp"
 #include "capsflow/core/bie/near_field.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
 #include "capsflow/core/bie/stokeslet_block.hpp"
@@ -40,35 +41,12 @@ class Fmm;
 struct OffSurfaceReport;
 
 
-struct SingleLayerOptions {
-  BackendRequest backend = BackendRequest::Auto;
-  double tolerance = 1e-6;       // far-field relative accuracy: the FMM order; direct sums use
-                                 // single-precision pairs (~5e-7) from 1e-5 on, double below
-  SurfaceGeometry geometry = SurfaceGeometry::Flat;  // see above
-  // Touching elements: the flat facet is integrated in closed form; a curved element adds its
-  // curvature correction by Duffy quadrature with these Gauss–Legendre points (quadrature.hpp).
-  int singular_points = 4;          // in v, on each side of the foot v*
-  int singular_radial_points = 3;   // in u (at most 16)
-  int near_ring_depth = 0;       // near ring (elements sharing a vertex with the touching ones):
-                                 // refined 7-point rule on 4^depth parts; -1 disables the ring
-  int near_ring_layers = 0;      // edge hops of the ring beyond the touching elements; 0 = auto: 1 for
-                                 // flat (the O(h²) geometry error dominates), 2 for curved (the far
-                                 // field's O(h) quadrature error would otherwise dominate)
-  FarFieldRule far_rule = FarFieldRule::Auto;  // Auto: edge midpoints on flat facets, Gauss points on curved
-  int corrected_layers = 0;      // edge hops within which the far field's midpoint rule is replaced
-                                 // (beyond the ring: by the 3-point rule); 0 = auto (kAutoCorrectedLayers);
-                                 // with the Gauss-point far field there is no band (the ring's layers)
-  int threads = 0;               // 0 = OpenMP default (set per parallel region, never globally)
-  int fmm_order = 0;             // > 0 forces the FMM order instead of the one the tolerance calls for
-  int fmm_leaf_size = 0;         // > 0 forces the FMM's points per leaf instead of the calibrated one
-  // > 0: on every verify_every-th apply() (the first one included) the far field is summed again
-  // directly, in full double precision, on the same sources and targets (far_field_checks()); the
-  // double layer checks its far field of the unit constants on every verify_every-th surface
-  // (DoubleLayer::set_surface).
-  int verify_every = 0;
-  // The double layer only: reuse D̃[1]'s quadrature error between refreshes on flat facets
-  // (DoubleLayer, docs/boundary-integral.md §4.7.5); false: a full pass on every set-up.
-  bool reuse_identity_term = true;
+// The single layer's options: those both layers share (layer_options.hpp), and the refined ring.
+struct SingleLayerOptions : LayerOptions {
+  // Not a scene key (perf/bie/bie_bench varies it, to measure the ring's rule against its cost):
+  // the near ring (elements sharing a vertex with the touching ones) by the 7-point rule on
+  // 4^depth parts, computed per node; 0: the 7-point rule once per element; −1: no ring.
+  int near_ring_depth = 0;
 };
 
 // The far field of one apply() against its direct re-summation: the largest and the RMS node
@@ -78,7 +56,7 @@ struct FarFieldCheck {
   double max_relative = 0, rms_relative = 0;
 };
 
-// An operator's direct checks so far (SingleLayerOptions::verify_every): how many, the latest, the
+// An operator's direct checks so far (LayerOptions::verify_every): how many, the latest, the
 // one with the largest max difference, the largest RMS, and how many exceeded the tolerance.
 struct FarFieldCheckLog {
   long checks = 0, above_tolerance = 0;
@@ -98,21 +76,6 @@ FarFieldCheck compare_far_field(const double* far, const double* ref, std::size_
 // The automatic corrected_layers with the edge-midpoint far field (docs/boundary-integral.md
 // §4.2.2: from there on the midpoint rule is as accurate as the 3-point far field it replaced).
 inline constexpr int kAutoCorrectedLayers = 3;
-// The double layer's (§4.7.3): its band would buy about 1 % of its discretisation error for two
-// thirds of its near-field work (perf/bie/double_layer_band), so none beyond the near ring.
-inline constexpr int kAutoDoubleLayerCorrectedLayers = 1;
-
-// What the options resolve to (the defaults above): the far-field rule, the refined ring's hop
-// layers (0 without one), and the corrected layers (never fewer than the ring's). Any operator
-// over the same near-field lists uses these.
-FarFieldRule far_field_rule(const SingleLayerOptions& o);
-// The far field's sources for a surface of `elements` elements and `edges` edges under the rule the
-// options resolve to: one per edge (midpoints) or three per element (Gauss points). What
-// SingleLayer and DoubleLayer count, for callers that size a run without building them.
-Eigen::Index far_field_source_count(const SingleLayerOptions& o, Eigen::Index elements, Eigen::Index edges);
-int near_ring_layers(const SingleLayerOptions& o);
-int corrected_layers(const SingleLayerOptions& o);
-int double_layer_corrected_layers(const SingleLayerOptions& o);  // as corrected_layers, auto: the double layer's
 
 class SingleLayer {
  public:
@@ -134,7 +97,7 @@ class SingleLayer {
   // Seconds in the phases BieSources, BieFar and BieNear, summed over apply() calls.
   const PhaseTimes& times() const { return times_; }
   long evaluations() const { return evaluations_; }
-  // Direct checks of the far field made so far (SingleLayerOptions::verify_every).
+  // Direct checks of the far field made so far (LayerOptions::verify_every).
   const FarFieldCheckLog& far_field_checks() const { return checks_; }
 
  private:

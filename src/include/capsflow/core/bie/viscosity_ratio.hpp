@@ -65,7 +65,7 @@ struct ViscosityRatioPrediction {
 class ViscosityRatioSolver {
  public:
   ViscosityRatioSolver(const Triangles& triangles, Eigen::Index n_nodes, double lambda,
-                       const SingleLayerOptions& bie_options, const GmresOptions& gmres_options);
+                       const DoubleLayerOptions& dl_options, const GmresOptions& gmres_options);
 
   using Prediction = ViscosityRatioPrediction;
 
