@@ -33,53 +33,9 @@ constexpr double kInexactFmmAllowedErrors[] = {1e-2, 5e-3, 1e-3, 1e-4};  // loos
 constexpr double kInexactL2Share = 0.25;  // a tier's L2 error bound, as a share of its allowance
 // Single-precision pairs' L2 error relative to the density, 10× the measured 1e-7 (above).
 constexpr double kMixedPrecisionL2Error = 1e-6;
-// D̃[1]'s reused error term (§4.7.5): the drift a reuse may have, as a share of the tolerance (the
-// FMM's own margin, kFmmToleranceMargin). Every set-up that could reuse measures the drift exactly
-// at a sample of nodes (direct sums) and refreshes when it exceeds half that allowance: the other
-// half covers the nodes between the samples (the drift is smooth over the surface: E follows the
-// local geometry) and the refresh pass's own error, which its order keeps below a quarter of the
-// allowance (so that E's extrapolation does not amplify FMM noise). A guard for what the sample
-// cannot see: a node whose corner value moved by more than kCornerJump in its frame since the
-// refresh, and by more than kCornerOverSampled times the most any sampled node's did (a local jump
-// between the samples, not the whole surface's motion, which the sample measures), forces a refresh.
-constexpr double kIdentityDriftShare = 0.25;
-constexpr double kSampledDriftShare = 0.5;
-constexpr double kRefreshPassShare = 0.25;
-constexpr double kCornerJump = 1e-3;
-constexpr double kCornerOverSampled = 2.0;
-// The sample: this many nodes spread over the surface (every k-th in breadth-first order); at
-// 81 920 elements their direct sums cost ~2 % of a λ = 5 evaluation.
-constexpr int kIdentitySamples = 512;
-// How far along the line through the last two refreshes E may be extrapolated, in units of their
-// distance (the fit's s, clamped: beyond, the refresh pass's noise would be amplified).
-constexpr double kExtrapolationRange[2] = {-1.0, 3.0};
-// Along two secants (E1 − E0, E0 − E−1): coefficients within ±6 (noise amplified at most ~10×;
-// what it does amplify the sample sees), and only where the secants are independent.
-constexpr double kQuadraticRange[2] = {-6.0, 6.0};
-constexpr double kSecantsIndependent = 1e-6;
-constexpr size_t kRecord = 24;  // per node: E1, C1, E0, E−1 (6 each, symmetric)
-
 inline void add(double* b, double c, const Mat3& m) {
   b[0] += c * m(0, 0), b[1] += c * m(1, 1), b[2] += c * m(2, 2);
   b[3] += c * m(0, 1), b[4] += c * m(0, 2), b[5] += c * m(1, 2);
-}
-inline Mat3 sym_matrix(const double* b) {
-  Mat3 m;
-  m << b[0], b[3], b[4], b[3], b[1], b[5], b[4], b[5], b[2];
-  return m;
-}
-inline void sym_store(const Mat3& m, double* b) {
-  b[0] = m(0, 0), b[1] = m(1, 1), b[2] = m(2, 2), b[3] = 0.5 * (m(0, 1) + m(1, 0)), b[4] = 0.5 * (m(0, 2) + m(2, 0)),
-  b[5] = 0.5 * (m(1, 2) + m(2, 1));
-}
-// A node's reused error term in its local frame: E1 + s (E1 − E0) + s2 (E0 − E−1), from its record
-// (E1, C1, E0, E−1).
-inline Mat3 extrapolated_error(const double* record, double s, double s2 = 0) {
-  const Mat3 E1 = sym_matrix(record);
-  Mat3 E = E1;
-  if (s != 0) E += s * (E1 - sym_matrix(record + 12));
-  if (s2 != 0) E += s2 * (sym_matrix(record + 12) - sym_matrix(record + 18));
-  return E;
 }
 inline Vec3 sym_times(const double* b, const double* u) {
   return {b[0] * u[0] + b[3] * u[1] + b[4] * u[2], b[3] * u[0] + b[1] * u[1] + b[5] * u[2],
@@ -130,19 +86,15 @@ DoubleLayer::DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   // The corner value is the flat polyhedron's: curved elements take the full pass on every set-up.
   // So does the direct back end: its pair loop costs the pair geometry for one density as for four
   // (measured at 5 120 elements: no gain); the FMM's cost follows the densities.
-  reuse_ = !surface_.curved() && opt.reuse_identity_term && backend_ == FarFieldBackend::Fmm;
-  if (reuse_) {
-    fans_ = std::make_unique<CornerFans>(triangles, n_nodes);
-    refreshed_.resize(kRecord * static_cast<size_t>(n_nodes)), corner_.resize(21 * static_cast<size_t>(n_nodes));
-    const size_t stride = std::max<size_t>(1, node_order_.size() / kIdentitySamples);
-    for (size_t k = 0; k < node_order_.size(); k += stride) samples_.push_back(node_order_[k]);
-    sample_x_.resize(3 * samples_.size()), sample_far_.resize(6 * samples_.size()), sample_error_.resize(samples_.size());
-    // The refresh pass at the order whose error (relative to the density, in max: the allowance's
-    // norm) is a quarter of the allowance: its E is what the set-ups between reuse and extrapolate.
-    const double refresh_max = kRefreshPassShare * kIdentityDriftShare * opt.tolerance;
-    const double tolerance = double_layer_fmm_tolerance(refresh_max, refresh_max);
-    if (opt.fmm_order <= 0 && tolerance < fmm_tolerance) fmm_refresh_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fmm_options(tolerance));
-  }
+  if (surface_.curved() || !opt.reuse_identity_term || backend_ != FarFieldBackend::Fmm) return;
+  identity_ = std::make_unique<IdentityTermCache>(triangles, n_nodes, node_order_, opt.tolerance, threads_);
+  const size_t samples = identity_->samples().size();
+  sample_x_.resize(3 * samples), sample_far_.resize(6 * samples), sample_exact_.resize(samples);
+  // The refresh pass at the order whose error (relative to the density, in max: the allowance's
+  // norm) is a quarter of the allowance: its E is what the set-ups between reuse and extrapolate.
+  const double refresh_max = identity_->refresh_pass_error();
+  const double tolerance = double_layer_fmm_tolerance(refresh_max, refresh_max);
+  if (opt.fmm_order <= 0 && tolerance < fmm_tolerance) fmm_refresh_ = std::make_unique<fmm::Fmm<fmm::Stresslet>>(fmm_options(tolerance));
 }
 
 DoubleLayer::~DoubleLayer() = default;
@@ -263,14 +215,12 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
   // the check is of the FMM (set-up, operators, order) that every iteration on it uses.
   const bool verify_now = opt_.verify_every > 0 && setups_ % opt_.verify_every == 0;
   bool refresh = true, sample_called = false;
-  if (reuse_) {
-    corner_geometry(x);
-    refresh = forced_refresh(on_trajectory, verify_now);
-    extrapolation_ = extrapolation2_ = sampled_drift_ = 0;
+  if (identity_) {
+    identity_->set_surface(x);
+    refresh = identity_->forced_refresh(on_trajectory, verify_now);
     if (!refresh) {
-      sample_identity_drift();
-      refresh = sample_called = on_trajectory && sampled_drift_ > kSampledDriftShare * kIdentityDriftShare * opt_.tolerance;
-      if (!refresh && on_trajectory) max_reused_drift_ = std::max(max_reused_drift_, sampled_drift_);
+      sample_identity_term();
+      refresh = sample_called = identity_->measure(sample_exact_, on_trajectory);
     }
     clock.lap(times_, Phase::BieSources);
   }
@@ -353,7 +303,10 @@ void DoubleLayer::set_surface(const Points& x, const Points* u, Points* Du, bool
     for (Eigen::Index i = 0; i < n_nodes_; ++i)
       for (int k = 0; k < 6; ++k) diagonal_[6 * static_cast<size_t>(i) + static_cast<size_t>(k)] -= unit_far_[6 * static_cast<size_t>(i) + static_cast<size_t>(k)];
   }
-  if (reuse_) reuse_identity_term(refresh, on_trajectory, sample_called);
+  if (identity_ && refresh)
+    identity_->refresh(diagonal_.data(), on_trajectory, sample_called);
+  else if (identity_)
+    identity_->reuse(diagonal_.data());
   if (u) add_near_field(*u, *Du);
   clock.lap(times_, Phase::BieNear);
   setup_seconds_ += total.seconds();
@@ -522,145 +475,22 @@ double DoubleLayer::apply(const Points& u, Points& out, double allowed_error) {
   return committed;
 }
 
-void DoubleLayer::corner_geometry(const Points& x) {
-  // Per node C, R and C in the local frame (corner_), and how far the surface moved since the last
-  // refresh: the largest change of a node's local corner value (the jump guard).
-  const bool since = refresh_records_ > 0;
-  double change = 0;
-#pragma omp parallel for schedule(static) reduction(max : change) num_threads(threads_)
-  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
-    const size_t k = static_cast<size_t>(i);
-    const Mat3 R = local_frame(x, i), C = corner_double_layer(x, i, *fans_);
-    sym_store(C, &corner_[21 * k]);
-    Eigen::Map<Mat3> frame(&corner_[21 * k + 6]);
-    frame = R;
-    const Mat3 local = R.transpose() * C * R;
-    sym_store(local, &corner_[21 * k + 15]);
-    if (since) change = std::max(change, (local - sym_matrix(&refreshed_[kRecord * k + 6])).norm());
-  }
-  corner_change_ = change;
-  double sampled = 0;
-  if (since)
-    for (const int i : samples_) {
-      const size_t k = static_cast<size_t>(i);
-      sampled = std::max(sampled, (sym_matrix(&corner_[21 * k + 15]) - sym_matrix(&refreshed_[kRecord * k + 6])).norm());
-    }
-  jumped_ = since && change > kCornerJump && change > kCornerOverSampled * sampled;
-  sampled_corner_change_ = sampled;
-}
-
-bool DoubleLayer::forced_refresh(bool on_trajectory, bool verify_now) const {
-  if (refresh_records_ == 0 || jumped_) return true;
-  return on_trajectory && verify_now;
-}
-
-void DoubleLayer::sample_identity_drift() {
-  // D̃[1] summed directly at the sample nodes (far field of the unit constants plus the row sums
-  // the assembly left in diagonal_), its error term E in the local frames, and the reuse's value
-  // there: E1 + s (E1 − E0) + s2 (E0 − E−1), s and s2 fitted to the sample by least squares (0 after
-  // a single refresh).
-  const size_t m = samples_.size();
+void DoubleLayer::sample_identity_term() {
+  // D̃[1] summed directly at the sample nodes: the far field of the unit constants plus the row
+  // sums the assembly left in diagonal_.
+  const std::vector<int>& samples = identity_->samples();
+  const size_t m = samples.size();
   for (size_t j = 0; j < m; ++j)
-    for (int d = 0; d < 3; ++d) sample_x_[3 * j + static_cast<size_t>(d)] = x_(samples_[j], d);
+    for (int d = 0; d < 3; ++d) sample_x_[3 * j + static_cast<size_t>(d)] = x_(samples[j], d);
   fmm::direct_sum<StressletNormalPair, 1, false>(src_.data(), src_.size() / 3, src_n_.data(), sample_x_.data(), m,
                                                  sample_far_.data(), threads_);
-  std::vector<Mat3>& now = sample_error_;
-  // Least squares over the sample of now − E1 ≈ s d1 + s2 d2, d1 = E1 − E0, d2 = E0 − E−1: the
-  // normal equations' Gram matrix g and right-hand side r.
-  double g11 = 0, g12 = 0, g22 = 0, r1 = 0, r2 = 0;
-  for (size_t j = 0; j < m; ++j) {
-    const size_t k = static_cast<size_t>(samples_[j]);
-    const Mat3 C = sym_matrix(&corner_[21 * k]), R = Eigen::Map<const Mat3>(&corner_[21 * k + 6]);
-    const Mat3 D1 = sym_matrix(&sample_far_[6 * j]) + 0.5 * Mat3::Identity() - sym_matrix(&diagonal_[6 * k]);
-    now[j] = R.transpose() * (D1 - C) * R;
-    if (refresh_records_ < 2) continue;
-    const double* record = &refreshed_[kRecord * k];
-    const Mat3 E1 = sym_matrix(record), E0 = sym_matrix(record + 12), d1 = E1 - E0;
-    g11 += d1.squaredNorm(), r1 += ((now[j] - E1).array() * d1.array()).sum();
-    if (refresh_records_ < 3) continue;
-    const Mat3 d2 = E0 - sym_matrix(record + 18);
-    g12 += (d1.array() * d2.array()).sum(), g22 += d2.squaredNorm(), r2 += ((now[j] - E1).array() * d2.array()).sum();
-  }
-  // The fit along one secant (s), and after three refreshes along two (s, s2: the quadratic
-  // through them); the reuse takes whichever errs less at the sample.
-  auto sampled = [&](double a, double b) {
-    double d = 0;
-    for (size_t j = 0; j < m; ++j)
-      d = std::max(d, (now[j] - extrapolated_error(&refreshed_[kRecord * static_cast<size_t>(samples_[j])], a, b)).norm());
-    return d;
-  };
-  extrapolation_ = g11 > 0 ? std::clamp(r1 / g11, kExtrapolationRange[0], kExtrapolationRange[1]) : 0.0;
-  extrapolation2_ = 0;
-  double drift = sampled(extrapolation_, 0);
-  const double det = g11 * g22 - g12 * g12;
-  if (refresh_records_ >= 3 && det > kSecantsIndependent * g11 * g22) {
-    const double a = std::clamp((r1 * g22 - r2 * g12) / det, kQuadraticRange[0], kQuadraticRange[1]);
-    const double b = std::clamp((g11 * r2 - g12 * r1) / det, kQuadraticRange[0], kQuadraticRange[1]);
-    const double quadratic = sampled(a, b);
-    if (quadratic < drift) extrapolation_ = a, extrapolation2_ = b, drift = quadratic;
-  }
-  sampled_drift_ = drift;
-}
-
-Mat3 DoubleLayer::local_frame(const Points& x, Eigen::Index i) const {
-  // Columns: tangent (towards the fan's first p), binormal, normal (area-weighted, outward).
-  const Vec3 xi = x.row(i).transpose();
-  Vec3 n = Vec3::Zero();
-  for (int f = fans_->start[static_cast<size_t>(i)]; f < fans_->start[static_cast<size_t>(i) + 1]; ++f) {
-    const CornerFacet& F = fans_->facets[static_cast<size_t>(f)];
-    n += (x.row(F.p).transpose() - xi).cross(x.row(F.q).transpose() - xi);
-  }
-  n.normalize();
-  const Vec3 p = x.row(fans_->facets[static_cast<size_t>(fans_->start[static_cast<size_t>(i)])].p).transpose() - xi;
-  const Vec3 t = (p - p.dot(n) * n).normalized();
-  Mat3 R;
-  R.col(0) = t, R.col(1) = n.cross(t), R.col(2) = n;
-  return R;
-}
-
-void DoubleLayer::reuse_identity_term(bool refreshed, bool on_trajectory, bool sample_called) {
-  // diagonal_ holds ½ I − D̃[1] from the pass on a refresh; otherwise ½ I − (C + R E Rᵀ) is imposed,
-  // E = E1 + s (E1 − E0) + s2 (E0 − E−1) (sample_identity_drift). refreshed_ per node, in the local
-  // frames of their refreshes: E1, C1 (the last refresh), E0 and E−1 (the two before).
-  // An off-trajectory set-up that had to take the full pass (its surface jumped from the
-  // reference) uses it for itself only: storing its E would make the run depend on its outputs.
-  if (refreshed && !on_trajectory) return;
-  // After a jump the older refresh lies on another surface: the line starts again from this one.
-  const bool restart_line = refreshed && jumped_;
-  // A refresh the sample called measures, over all nodes, the drift of the reuse it replaced: how
-  // far the sample's estimate falls short of the whole surface's. Forced refreshes (the first, a
-  // corner jump, a verified surface) replace no reuse that the sample passed.
-  const bool measure = sample_called && refresh_records_ > 0;
-  const double s = extrapolation_, s2 = extrapolation2_;
-  double drift = 0;
-#pragma omp parallel for schedule(static) reduction(max : drift) num_threads(threads_)
-  for (Eigen::Index i = 0; i < n_nodes_; ++i) {
-    const size_t k = static_cast<size_t>(i);
-    const Mat3 C = sym_matrix(&corner_[21 * k]), R = Eigen::Map<const Mat3>(&corner_[21 * k + 6]);
-    double* Dg = &diagonal_[6 * k];
-    double* record = &refreshed_[kRecord * k];
-    if (refreshed) {
-      const Mat3 D1 = 0.5 * Mat3::Identity() - sym_matrix(Dg);
-      if (measure) drift = std::max(drift, (D1 - C - R * extrapolated_error(record, s, s2) * R.transpose()).norm());
-      std::copy(record + 12, record + 18, record + 18);
-      std::copy(record, record + 6, record + 12);
-      sym_store(R.transpose() * (D1 - C) * R, record);
-      std::copy(&corner_[21 * k + 15], &corner_[21 * k + 21], record + 6);
-    } else {
-      sym_store(0.5 * Mat3::Identity() - (C + R * extrapolated_error(record, s, s2) * R.transpose()), Dg);
-    }
-  }
-  if (!refreshed) return;
-  if (measure) {
-    max_drift_ = std::max(max_drift_, drift);
-    max_drift_over_sampled_ = std::max(max_drift_over_sampled_, drift / sampled_drift_);  // sampled_drift_ > 0 here
-  }
-  refresh_records_ = restart_line ? 1 : std::min(refresh_records_ + 1, 3);
-  ++refreshes_;
+  for (size_t j = 0; j < m; ++j)
+    sample_exact_[j] = symmetric_matrix(&sample_far_[6 * j]) + 0.5 * Mat3::Identity() -
+                       symmetric_matrix(&diagonal_[6 * static_cast<size_t>(samples[j])]);
 }
 
 Mat3 DoubleLayer::unit_constant_integral(Eigen::Index i) const {
-  return 0.5 * Mat3::Identity() - sym_matrix(&diagonal_[6 * static_cast<size_t>(i)]);
+  return 0.5 * Mat3::Identity() - symmetric_matrix(&diagonal_[6 * static_cast<size_t>(i)]);
 }
 
 }  // namespace capsflow

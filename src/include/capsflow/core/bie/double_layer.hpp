@@ -15,16 +15,9 @@
 // for the three unit constants: the identity is imposed exactly (D_h[c] = c/2), which removes the
 // O(h) error of the polyhedral vertices and every error proportional to u_i.
 //
-// D̃[1] costs a far-field pass of three densities; on flat facets with the FMM back end it is
-// split (§4.7.5) into the polyhedron's exact value C(x_i) (corner_double_layer.hpp: local, closed
-// form) and the quadrature's error E_i = D̃[1](x_i) − C(x_i), which follows the surface slowly. E
-// is computed by a full pass on a refreshing set-up, kept in each node's local frame (so that it
-// turns with the surface), and reused with the current C on the set-ups between, whose far-field
-// pass is then the first application's alone: extrapolated along the last two or three refreshes, as far as
-// a sample of nodes, where every set-up sums D̃[1] directly, says the surface went. A trajectory
-// set-up refreshes when the reuse would err at the sample by more than half of a quarter of the
-// tolerance (kIdentityDriftShare, kSampledDriftShare); the refresh pass runs at an order whose own
-// error is a quarter of that quarter, so that the extrapolation does not amplify FMM noise much.
+// D̃[1] costs a far-field pass of three densities; on flat facets with the FMM back end the set-ups
+// between refreshes take it from the polyhedron's corner value and the reused quadrature error
+// instead (identity_term_cache.hpp, docs/boundary-integral.md §4.7.5).
 //
 // set_surface(x) does everything that depends only on the surface — the far field's points and
 // normals, the near-field terms as a sparse matrix of symmetric 3×3 blocks, D̃[1] — so that the
@@ -36,7 +29,7 @@
 #include <vector>
 
 #include "capsflow/core/bie/boundary_surface.hpp"
-#include "capsflow/core/bie/corner_double_layer.hpp"
+#include "capsflow/core/bie/identity_term_cache.hpp"
 #include "capsflow/core/bie/layer_options.hpp"
 #include "capsflow/core/bie/near_field.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
@@ -124,24 +117,17 @@ class DoubleLayer {
   std::vector<InexactFmmUse> inexact_fmm_uses() const;
   // D̃[1](x_i) in force on the current surface (the far pass's, or C + the reused error term).
   Mat3 unit_constant_integral(Eigen::Index i) const;
-  // The reuse of D̃[1]'s error term (flat facets, FMM back end; docs/boundary-integral.md §4.7.5):
-  // whether it is on, the trajectory set-ups that refreshed the reused term by a full pass, the
-  // largest drift over all nodes that a refresh called by the sample measured (max of the Frobenius
-  // norm of fresh − reused: what the reuse there would have erred by; forced refreshes excluded),
-  // and the largest drift a reusing trajectory set-up measured at its sample of nodes (by direct sums).
-  bool reuses_identity_term() const { return reuse_; }
-  long identity_refreshes() const { return refreshes_; }
-  double identity_max_drift() const { return max_drift_; }
-  double identity_max_reused_drift() const { return max_reused_drift_; }
-  // The largest ratio of that all-node drift to the sampled drift that called the refresh: the
-  // sample's margin (kSampledDriftShare) assumes it stays below 2.
-  double identity_max_drift_over_sampled() const { return max_drift_over_sampled_; }
-  // This set-up's: the drift at the samples, and s of the reuse E = E1 + s (E1 − E0) + s2 (E0 − E−1) (0 on a
-  // forced refresh; a refresh for a sampled drift keeps the values that called for it).
-  double identity_sampled_drift() const { return sampled_drift_; }
-  double identity_extrapolation() const { return extrapolation_; }
-  std::size_t identity_samples() const { return samples_.size(); }
-  const std::vector<int>& identity_sample_nodes() const { return samples_; }
+  // The reuse of D̃[1]'s error term (flat facets, FMM back end; identity_term_cache.hpp): whether it
+  // is on, its statistics (IdentityTermStats).
+  bool reuses_identity_term() const { return identity_ != nullptr; }
+  long identity_refreshes() const { return identity_stats().refreshes; }
+  double identity_max_drift() const { return identity_stats().max_drift; }
+  double identity_max_reused_drift() const { return identity_stats().max_reused_drift; }
+  double identity_max_drift_over_sampled() const { return identity_stats().max_drift_over_sampled; }
+  double identity_sampled_drift() const { return identity_stats().sampled_drift; }
+  double identity_extrapolation() const { return identity_stats().extrapolation; }
+  std::size_t identity_samples() const { return identity_stats().samples.size(); }
+  std::vector<int> identity_sample_nodes() const { return identity_stats().samples; }
   int refresh_fmm_order() const;  // the refresh pass's FMM order (fmm_order() if not above it)
   // The reuse's records (per node E1, C1, E0, E−1 in the local frames; empty without the reuse) and
   // how many refreshes they hold: all that a set-up carries to the next, which a checkpoint keeps
@@ -157,11 +143,8 @@ class DoubleLayer {
 
  private:
   void build_near_pattern();
-  void corner_geometry(const Points& x);  // corner_, corner_change_ and jumped_ on a new surface
-  bool forced_refresh(bool on_trajectory, bool verify_now) const;  // no record yet, a jump, a verified surface
-  void sample_identity_drift();  // extrapolation_ and sampled_drift_, after assemble_near_field
-  Mat3 local_frame(const Points& x, Eigen::Index i) const;
-  void reuse_identity_term(bool refreshed, bool on_trajectory, bool sample_called);  // after assemble_near_field
+  IdentityTermStats identity_stats() const { return identity_ ? identity_->stats() : IdentityTermStats{}; }
+  void sample_identity_term();  // sample_exact_: D̃[1] at the cache's samples, by direct sums
   void assemble_near_field(const Points& x);
   void fill_far_densities(const Points& u);                // density_ from u
   void add_near_field(const Points& u, Points& out) const;  // out += near blocks and diagonal times u
@@ -206,26 +189,10 @@ class DoubleLayer {
   // 1/8π. slot_ maps (node, listed element) to the blocks of its 3 vertices, in list order.
   std::vector<int> block_start_, block_col_, slot_start_, slot_;
   std::vector<double> block_, diagonal_;
-  // D̃[1]'s reuse (§4.7.5): the vertex fans, E = D̃[1] − C at the last three refreshes, the sample.
-  bool reuse_ = false;
-  std::unique_ptr<CornerFans> fans_;
-  std::vector<double> refreshed_;  // per node: E1, C1 (the last refresh), E0, E−1 (the two before), local frames
-  std::vector<double> corner_;     // per node on the current surface: C (6), the local frame R (9), C in it (6)
-  int refresh_records_ = 0;        // how many of the three refreshes are kept
-  double corner_change_ = 0;       // the largest change of a local corner value since the last refresh
-  double sampled_corner_change_ = 0;  // the same over the sample
-  bool jumped_ = false;            // corner_change_ a jump the sample did not see (kCornerJump, kCornerOverSampled)
-  std::vector<int> samples_;       // the nodes at which every set-up measures the reuse's drift
-  std::vector<double> sample_x_, sample_far_;  // their positions, their direct far field of the unit constants
-  std::vector<Mat3> sample_error_;             // E there in the local frames (sample_identity_drift's scratch)
-  double extrapolation_ = 0;       // s, s2 of this set-up's reuse: E = E1 + s (E1 − E0) + s2 (E0 − E−1)
-  double extrapolation2_ = 0;
-  double sampled_drift_ = 0;       // the largest drift of that reuse at the samples
-  double max_drift_over_sampled_ = 0;
-  double max_reused_drift_ = 0;    // the largest sampled drift of a trajectory set-up that reused
+  std::unique_ptr<IdentityTermCache> identity_;  // D̃[1]'s reuse (flat facets, FMM back end)
+  std::vector<double> sample_x_, sample_far_;    // the samples' positions, their far field of the unit constants
+  std::vector<Mat3> sample_exact_;               // D̃[1] there
   std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_refresh_;  // the refresh pass's order, if above fmm_'s
-  long refreshes_ = 0;
-  double max_drift_ = 0;
   std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
   FarFieldCheckLog checks_;
   PhaseTimes times_;
