@@ -49,7 +49,8 @@ void evaluate_off_surface(SingleLayer& S, const Points& x, const Points& q, cons
   S.build_sources(x, q);  // also the current surface (vertex normals, edge midpoints)
   const Eigen::Index nt = targets.rows(), m = S.tri_.rows();
   u.resize(nt, 3);
-  S.far_field(targets.data(), nt, u.data(), false);  // targets may coincide with edge midpoints
+  S.far_.set_targets(targets.data(), nt);
+  S.far_field(u.data(), false);  // targets may coincide with edge midpoints
 
   // Uniform hash grid of element bounding boxes, cell = 2 × longest edge, so that every element
   // within 2 of its own sizes of a target overlaps one of the 27 cells around the target.

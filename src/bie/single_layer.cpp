@@ -2,25 +2,14 @@
 
 #include <omp.h>
 
-#include <algorithm>
-#include <cmath>
-#include <fmt/core.h>
-
 #include <stdexcept>
 
-#include "capsflow/fmm/calibration.hpp"
-#include "capsflow/fmm/direct_sum.hpp"
-#include "capsflow/fmm/direct_sum_mixed.hpp"
-#include "capsflow/fmm/fmm.hpp"
 #include "capsflow/fmm/stokeslet.hpp"
 
 namespace capsflow {
 
 namespace {
 constexpr double kInv8Pi = fmm::Stokeslet::scale();
-}  // namespace
-
-namespace {
 int ring_layers(const SingleLayerOptions& o) { return o.near_ring_depth < 0 ? 0 : near_ring_layers(o); }
 }  // namespace
 
@@ -29,29 +18,15 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
       n_nodes_(n_nodes),
       opt_(opt),
       threads_(layer_threads(opt)),
-      far_rule_(far_field_rule(opt)),
       rule_(opt.singular_points),
       rule_u_(opt.geometry == SurfaceGeometry::Curved ? opt.singular_radial_points : 1),
       lists_(triangles, n_nodes, ring_layers(opt), corrected_layers(opt, ring_layers(opt), kAutoCorrectedLayers)),
       surface_(triangles, opt.geometry),
-      source_slots_(far_field_source_slots(lists_, triangles.rows(), far_rule_ == FarFieldRule::EdgeMidpoints)) {
+      far_(lists_, triangles.rows(), n_nodes, opt, threads_) {
   if (opt.singular_radial_points > 16)
     throw std::invalid_argument("singular_radial_points: at most 16 Gauss points in u");
   const std::size_t m = static_cast<std::size_t>(tri_.rows());
-  backend_ = choose_backend(opt.backend, FarFieldKernel::SingleLayer, far_field_sources(), n_nodes, opt.tolerance, &reason_);
-  mixed_precision_ = uses_mixed_precision(backend_, opt.tolerance);
-  if (backend_ == FarFieldBackend::Fmm) {
-    fmm::FmmOptions fo;
-    // The FMM calibration is in relative L2 error over targets; capsflow promises the tolerance
-    // relative to max |v| at every node (max norm), so ask the FMM for a safety margin.
-    fo.tolerance = kFmmToleranceMargin * opt.tolerance;
-    fo.order = opt.fmm_order;
-    fo.leaf_size = opt.fmm_leaf_size;
-    fo.threads = threads_;
-    fmm_ = std::make_unique<fmm::Fmm<fmm::Stokeslet>>(fo);
-  }
-  src_.resize(3 * source_slots_.size());
-  strength_.resize(3 * source_slots_.size());
+  mixed_precision_ = uses_mixed_precision(far_.backend(), opt.tolerance);
   far_block_.resize(m);
   if (opt.near_ring_depth == 0 && lists_.ring_layers() > 0) ring_block_.resize(m);
   batches_.resize(static_cast<size_t>(threads_));
@@ -59,84 +34,50 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
 
 SingleLayer::~SingleLayer() = default;
 
-int SingleLayer::fmm_order() const { return fmm_ ? fmm_->order() : 0; }
-int SingleLayer::fmm_leaf_size() const { return fmm_ ? fmm_->leaf_size() : 0; }
-
 void SingleLayer::build_sources(const Points& x, const Points& q) {
   surface_.update(x, threads_);
-  const Eigen::Index m = tri_.rows(), n_src = far_field_sources();
-  const auto& far_bary = far_rule_ == FarFieldRule::EdgeMidpoints ? kEdgeMidpointBary : kGaussBary;
   const bool band = lists_.corrected_layers() > lists_.ring_layers();
   // A rule point (barycentrics l, weight w over the reference triangle) of element e as a
-  // Stokeslet term: position y, force w J q(y).
-  auto rule_point = [&](const QuadraticTriangle& T, Eigen::Index e, const double* l, double w, Vec3& y, Vec3& f) {
-    y = T.position(l[1], l[2]);
+  // Stokeslet term: position y, force f = w J q(y).
+  auto rule_point = [&](const QuadraticTriangle& T, Eigen::Index e, const double* l, double w, double* y, double* f) {
+    const Vec3 p = T.position(l[1], l[2]);
     const double wj = w * T.jacobian(l[1], l[2]);
-    for (int d = 0; d < 3; ++d) f[d] = wj * (l[0] * q(tri_(e, 0), d) + l[1] * q(tri_(e, 1), d) + l[2] * q(tri_(e, 2), d));
+    for (int d = 0; d < 3; ++d)
+      y[d] = p[d], f[d] = wj * (l[0] * q(tri_(e, 0), d) + l[1] * q(tri_(e, 1), d) + l[2] * q(tri_(e, 2), d));
   };
-#pragma omp parallel num_threads(threads_)
-  {
-    Vec3 y, f;
-#pragma omp for schedule(dynamic, 256)
-    for (Eigen::Index e = 0; e < m; ++e) {
-      const QuadraticTriangle T = surface_.element(x, e, 0);
-      StokesletBlock& fb = far_block_[static_cast<size_t>(e)];
-      for (int k = 0; k < 3; ++k) {  // the far-field rule (degree 2, weights 1/6 of the Jacobian), negated
-        rule_point(T, e, far_bary[k], 1.0 / 6.0, y, f);
-        fb.set(kFarLane + k, y, -f);
+  // The element's own near-field rules: the band's 3-point rule, and Dunavant's 7 points of the
+  // ring (computed once here, used by the ~18 nodes of whose ring e is part).
+  auto near_rules = [&](const QuadraticTriangle& T, Eigen::Index e) {
+    double y[3], f[3];
+    if (band)
+      for (int g = 0; g < 3; ++g) {
+        rule_point(T, e, kGaussBary[g], 1.0 / 6.0, y, f);
+        far_block_[static_cast<size_t>(e)].set(kBandLane + g, Vec3(y[0], y[1], y[2]), Vec3(f[0], f[1], f[2]));
       }
-      if (band)
-        for (int g = 0; g < 3; ++g) {
-          rule_point(T, e, kGaussBary[g], 1.0 / 6.0, y, f);
-          fb.set(kBandLane + g, y, f);
-        }
-      if (!ring_block_.empty())  // Dunavant's 7 points: computed once here, used by the ~18 nodes of whose ring e is part
-        for (int k = 0; k < 7; ++k) {
-          rule_point(T, e, kDunavant7[k], 0.5 * kDunavant7[k][3], y, f);
-          ring_block_[static_cast<size_t>(e)].set(k, y, f);
-        }
+    if (!ring_block_.empty())
+      for (int k = 0; k < 7; ++k) {
+        rule_point(T, e, kDunavant7[k], 0.5 * kDunavant7[k][3], y, f);
+        ring_block_[static_cast<size_t>(e)].set(k, Vec3(y[0], y[1], y[2]), Vec3(f[0], f[1], f[2]));
+      }
+  };
+  far_.place(x, surface_, rule_point, near_rules);
+  // The far-field terms negated, at the positions the far field summed them (the two sides of an
+  // edge at the one source's), so that the near field subtracts exactly what the far field added.
+  const Eigen::Index m = tri_.rows();
+#pragma omp parallel for schedule(static) num_threads(threads_)
+  for (Eigen::Index e = 0; e < m; ++e)
+    for (int k = 0; k < 3; ++k) {
+      const double* y = far_.slot_position(static_cast<size_t>(3 * e + k));
+      const double* f = far_.slot_value(static_cast<size_t>(3 * e + k));
+      far_block_[static_cast<size_t>(e)].set(kFarLane + k, Vec3(y[0], y[1], y[2]), -Vec3(f[0], f[1], f[2]));
     }
-    // Each source: at its first slot's point, with the sum of its slots' forces (both elements'
-    // shares of an edge's midpoint); its other slot takes the same position, so that the near
-    // field subtracts exactly what the far field added.
-#pragma omp for schedule(dynamic, 256)
-    for (Eigen::Index source = 0; source < n_src; ++source) {
-      const auto& s = source_slots_[static_cast<size_t>(source)];
-      const StokesletBlock& b0 = far_block_[static_cast<size_t>(s[0] / 3)];
-      const int l0 = kFarLane + s[0] % 3;
-      for (int d = 0; d < 3; ++d) {
-        src_[static_cast<size_t>(3 * source + d)] = b0.y[d][l0];
-        strength_[static_cast<size_t>(3 * source + d)] = -b0.f[d][l0];
-      }
-      if (s[1] < 0) continue;
-      StokesletBlock& b1 = far_block_[static_cast<size_t>(s[1] / 3)];
-      const int l1 = kFarLane + s[1] % 3;
-      for (int d = 0; d < 3; ++d) {
-        b1.y[d][l1] = b0.y[d][l0];
-        strength_[static_cast<size_t>(3 * source + d)] -= b1.f[d][l1];
-      }
-    }
-  }
 }
 
-void SingleLayer::far_field(const double* targets, Eigen::Index n_targets, double* out, bool targets_are_nodes) {
-  const std::size_t n_src = src_.size() / 3;
-  if (backend_ == FarFieldBackend::Fmm) {
-    fmm_->setup(src_.data(), n_src, targets, static_cast<std::size_t>(n_targets));
-    fmm_->evaluate(strength_.data(), out);
-  } else if (targets_are_nodes && mixed_precision_) {
-    fmm::stokeslet_direct_sum_mixed(src_.data(), n_src, strength_.data(), targets, static_cast<std::size_t>(n_targets), out,
-                                    threads_);
-  } else if (targets_are_nodes) {
-    // Edge midpoints and Gauss points never coincide with a node: no r = 0 test, and one Newton
-    // step after the hardware rsqrt (≤ 6e-9 per pair, ~1e-9 on the sum; far below the smallest tolerance a scene
-    // accepts, 1e-8): 15–20 % faster than full precision.
-    fmm::direct_sum<fmm::Stokeslet, 1, false>(src_.data(), n_src, strength_.data(), targets,
-                                              static_cast<std::size_t>(n_targets), out, threads_);
-  } else {
-    fmm::direct_sum<fmm::Stokeslet>(src_.data(), n_src, strength_.data(), targets, static_cast<std::size_t>(n_targets), out,
-                                    threads_);
-  }
+void SingleLayer::far_field(double* out, bool at_nodes) {
+  if (far_.backend() == FarFieldBackend::Fmm)
+    far_.evaluate(FarField<fmm::Stokeslet>::kMainFmm, far_.values(), out);
+  else  // points off the surface may coincide with a source: the exact pairs there
+    far_.direct(far_.values(), out, !at_nodes ? DirectPairs::Exact : mixed_precision_ ? DirectPairs::Single : DirectPairs::Fast);
 }
 
 void SingleLayer::correct_near_field(const Points& x, const Points& q, Points& u) {
@@ -177,45 +118,6 @@ void SingleLayer::correct_near_field(const Points& x, const Points& q, Points& u
   }
 }
 
-void FarFieldCheckLog::add(const FarFieldCheck& c, double tolerance) {
-  last = c;
-  ++checks;
-  if (checks == 1 || c.max_relative > worst.max_relative) worst = c;
-  worst_rms = std::max(worst_rms, c.rms_relative);
-  if (c.max_relative > tolerance) ++above_tolerance;
-}
-
-FarFieldCheck compare_far_field(const double* far, const double* ref, std::size_t n, int dim, long evaluation) {
-  double max_ref = 0, max_diff = 0, sum_sq = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    double d2 = 0, r2 = 0;
-    for (int k = 0; k < dim; ++k) {
-      const double w = dim == 6 && k >= 3 ? 2.0 : 1.0;  // a symmetric matrix's off-diagonal entries count twice
-      const double d = far[dim * i + k] - ref[dim * i + k];
-      d2 += w * d * d;
-      r2 += w * ref[dim * i + k] * ref[dim * i + k];
-    }
-    max_ref = std::max(max_ref, std::sqrt(r2));
-    max_diff = std::max(max_diff, std::sqrt(d2));
-    sum_sq += d2;
-  }
-  FarFieldCheck c;
-  c.evaluation = evaluation;
-  c.max_relative = max_ref > 0 ? max_diff / max_ref : 0.0;
-  c.rms_relative = max_ref > 0 ? std::sqrt(sum_sq / static_cast<double>(n)) / max_ref : 0.0;
-  return c;
-}
-
-void SingleLayer::check_far_field(const Points& x, const Points& far) {
-  const std::size_t n = static_cast<std::size_t>(n_nodes_);
-  direct_scratch_.resize(3 * n);
-  // Full double precision and the r = 0 mask: the reference must not share the fast paths of
-  // far_field() (one-Newton rsqrt, single-precision pairs) it is meant to check.
-  fmm::direct_sum<fmm::Stokeslet>(src_.data(), src_.size() / 3, strength_.data(), x.data(), n, direct_scratch_.data(),
-                                  threads_);
-  checks_.add(compare_far_field(far.data(), direct_scratch_.data(), n, 3, evaluations_), opt_.tolerance);
-}
-
 void SingleLayer::apply(const Points& x, const Points& q, Points& u) {
   if (x.rows() != n_nodes_ || q.rows() != n_nodes_)
     throw std::invalid_argument("single layer: positions and load must have one row per node");
@@ -223,10 +125,11 @@ void SingleLayer::apply(const Points& x, const Points& q, Points& u) {
   build_sources(x, q);
   clock.lap(times_, Phase::BieSources);
   u.resize(n_nodes_, 3);
-  far_field(x.data(), n_nodes_, u.data(), true);
+  far_.set_targets(x.data(), n_nodes_);
+  far_field(u.data(), true);
   clock.lap(times_, Phase::BieFar);
-  if (opt_.verify_every > 0 && evaluations_ % opt_.verify_every == 0) {
-    check_far_field(x, u);
+  if (far_.check_due(evaluations_)) {
+    far_.record(far_.compare_with_direct(far_.values(), u.data(), evaluations_));
     clock.lap(times_, Phase::BieVerify);
   }
   correct_near_field(x, q, u);

@@ -4,51 +4,51 @@
 //   D[u](x) = (1/8π) PV∫_S T(x − y) : u(y) n(y) dS_y,   (T : u n)_i = T_ijk u_j n_k,
 //   T_ijk(r) = −6 r_i r_j r_k/|r|⁵,  r = x − y,  n the outward normal,
 //
-// for a velocity u linear on each element (nodal values u_k), discretised exactly as the single
-// layer (single_layer.hpp: the options both share, far-field rule and sources, near-field lists, surface).
-// With this sign D[c] = c/2 for a constant c at every smooth point of a closed surface (the
-// Gauss-type identity PV∫ T(x − y)·n dS = 4π I). The operator is
+// for a velocity u linear on each element (nodal values u_k), discretised as the single layer
+// (single_layer.hpp: the same far-field rule and sources, near-field lists and surface). With this
+// sign D[c] = c/2 for a constant c at every smooth point of a closed surface (the Gauss-type
+// identity PV∫ T(x − y)·n dS = 4π I). The operator is
 //   D_h[u](x_i) = ½ u_i + D̃[u](x_i) − D̃[1](x_i) u_i,
-// D̃ the discrete integral (far field: the single layer's far-field points as stresslet sources;
-// touching elements and near ring integrated as for the single layer, no band unless asked:
-// kAutoDoubleLayerCorrectedLayers) and D̃[1](x_i) its value
-// for the three unit constants: the identity is imposed exactly (D_h[c] = c/2), which removes the
-// O(h) error of the polyhedral vertices and every error proportional to u_i.
-//
-// D̃[1] costs a far-field pass of three densities; on flat facets with the FMM back end the set-ups
-// between refreshes take it from the polyhedron's corner value and the reused quadrature error
-// instead (identity_term_cache.hpp, docs/boundary-integral.md §4.7.5).
+// D̃ the discrete integral and D̃[1](x_i) its value for the three unit constants: the identity is
+// imposed exactly (D_h[c] = c/2), which removes the O(h) error of the polyhedral vertices and every
+// error proportional to u_i. Its parts:
+//   far field  — the single layer's far-field points as stresslet sources (far_field.hpp), summed
+//                by the FMM or directly;
+//   near field — touching elements (curved ones by Duffy points; flat ones contribute nothing) and
+//                the near ring (Dunavant's 7 points), minus their far-field terms; no band unless
+//                asked (kAutoDoubleLayerCorrectedLayers): a sparse matrix of symmetric 3×3 blocks
+//                per node, and the diagonal ½ I − D̃[1](x_i);
+//   D̃[1]      — a far-field pass of the three unit constants plus the near blocks' row sums; on
+//                flat facets with the FMM back end, between refreshes, the corner value plus the
+//                reused quadrature error (identity_term_cache.hpp: §4.7.5);
+//   inexact steps — apply() with an allowed error sums the far field by a cheaper FMM of lower order
+//                (or single-precision pairs with the direct back end).
 //
 // set_surface(x) does everything that depends only on the surface — the far field's points and
-// normals, the near-field terms as a sparse matrix of symmetric 3×3 blocks, D̃[1] — so that the
-// repeated applications of an iterative solve (apply(u)) cost one far-field sum and one sparse
-// product each.
-#include <array>
+// normals, the near-field blocks, D̃[1] — so that the repeated applications of an iterative solve
+// (apply(u)) cost one far-field sum and one sparse product each.
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "capsflow/core/bie/boundary_surface.hpp"
+#include "capsflow/core/bie/far_field.hpp"
 #include "capsflow/core/bie/identity_term_cache.hpp"
 #include "capsflow/core/bie/layer_options.hpp"
 #include "capsflow/core/bie/near_field.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
-#include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/types.hpp"
 
 namespace capsflow {
 namespace fmm {
-struct FmmOptions;
 struct Stresslet;
-template <class K>
-class Fmm;
 }  // namespace fmm
 
 // The double layer's options: those both layers share (layer_options.hpp) and the reuse of D̃[1].
 struct DoubleLayerOptions : LayerOptions {
   // Reuse D̃[1]'s quadrature error between refreshes on flat facets with the FMM back end
-  // (docs/boundary-integral.md §4.7.5); false: a full pass on every set-up.
+  // (identity_term_cache.hpp, docs/boundary-integral.md §4.7.5); false: a full pass on every set-up.
   bool reuse_identity_term = true;
 };
 
@@ -80,17 +80,17 @@ class DoubleLayer {
   // tolerance whatever the allowance; 0 for the direct sum in double.
   double apply(const Points& u, Points& out, double allowed_error = 0);
 
-  FarFieldBackend backend() const { return backend_; }
-  const std::string& backend_reason() const { return reason_; }
-  int fmm_order() const;  // 0 with the direct far field
+  FarFieldBackend backend() const { return far_.backend(); }
+  const std::string& backend_reason() const { return far_.reason(); }
+  int fmm_order() const { return far_.fmm_order(); }  // 0 with the direct far field
+  Eigen::Index far_field_sources() const { return far_.sources(); }
   // Direct checks of the far field (LayerOptions::verify_every): on every verify_every-th
   // set_surface() (the first one included) the far field of the unit constants, D̃[1] (the
   // symmetric 3×3 per node), and that of the first application when set_surface is given u — both
   // summed by the same FMM (set-up, operators, order) as every apply() on that surface — are summed
   // again directly in full double precision and compared (compare_far_field); the check is the
   // worse of the two. Counted per surface: the log's `evaluation` is the set_surface() call.
-  const FarFieldCheckLog& far_field_checks() const { return checks_; }
-  Eigen::Index far_field_sources() const { return static_cast<Eigen::Index>(source_slots_.size()); }
+  const FarFieldCheckLog& far_field_checks() const { return far_.checks(); }
   // Near-field blocks per node (memory: 6 doubles and an int each).
   double blocks_per_node() const { return static_cast<double>(block_col_.size()) / static_cast<double>(n_nodes_); }
   // The near-field matrix's memory (blocks, their columns, slots, row starts), in MB.
@@ -142,46 +142,48 @@ class DoubleLayer {
   }
 
  private:
+  // An FMM of lower order for inexact steps (backend Fmm), added to the far field on the first
+  // step that takes it (short runs may never take p = 5 or 7).
+  struct InexactFmm {
+    double allowed_error;
+    double fmm_tolerance;  // the FMM's requested tolerance
+    int order;             // the order it selects (fmm::order_for_tolerance)
+    int fmm = -1;          // its handle in far_
+    long applications = 0;
+  };
+  void build_inexact_ladder();
   void build_near_pattern();
-  IdentityTermStats identity_stats() const { return identity_ ? identity_->stats() : IdentityTermStats{}; }
-  void sample_identity_term();  // sample_exact_: D̃[1] at the cache's samples, by direct sums
+  void visit_breadth_first();
+  void place_points(const Points& x);
   void assemble_near_field(const Points& x);
+  void assemble_row(Eigen::Index i, const Points& x);
+  void add_elements(Eigen::Index i, const Points& x, IndexRange list, const int* slots, const std::vector<double>* y,
+                    const std::vector<double>* n, int points, const double (*bary)[4]);
+  bool identity_refresh(const Points& x, bool on_trajectory, bool verify_now, bool& sample_called);
+  void sample_identity_term();  // sample_exact_: D̃[1] at the cache's samples, by direct sums
+  void set_up_far_field(bool refresh, bool verify_now, const Points* u, Points* Du);
+  void set_up_far_field_fmm(bool verify_now, const Points* u, Points* Du);
+  void set_up_far_field_direct(const Points* u, Points* Du);
+  void check_set_up(bool refresh, const Points* u, const Points* Du);
+  void complete_diagonal(bool refresh, bool on_trajectory, bool sample_called);
   void fill_far_densities(const Points& u);                // density_ from u
+  double apply_far_field(Points& out, double allowed_error);  // out = the far field of density_; the committed error
   void add_near_field(const Points& u, Points& out) const;  // out += near blocks and diagonal times u
+  IdentityTermStats identity_stats() const { return identity_ ? identity_->stats() : IdentityTermStats{}; }
 
   Triangles tri_;
   Eigen::Index n_nodes_;
   DoubleLayerOptions opt_;
   int threads_;
-  FarFieldRule far_rule_;
   GaussLegendre rule_, rule_u_;
   NearFieldLists lists_;
   BoundarySurface surface_;
-  std::vector<std::array<int, 2>> source_slots_;  // per far-field source: its slots 3e + k
-  FarFieldBackend backend_;
-  std::string reason_;
-  std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_;  // backend Fmm: set up once per surface
-  // Lower orders for inexact steps (backend Fmm), loosest allowance first; each set up on the first
-  // inexact step of a surface that takes it.
-  fmm::FmmOptions fmm_options(double tolerance) const;  // the options every FMM here shares, at a tolerance
-  struct InexactFmm {
-    double allowed_error;
-    double fmm_tolerance;       // the FMM's requested tolerance
-    int order;                  // the order it selects (fmm::order_for_tolerance)
-    std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm;  // built on the tier's first step (short runs may never take p = 5 or 7)
-    bool ready = false;
-    long applications = 0;
-  };
-  std::vector<InexactFmm> inexact_fmms_;
-  bool fmm_ready_ = false;                          // fmm_ set up on the current surface
-  bool direct_set_up_ = false;  // backend Fmm, "auto": the set-up's four-density pass sums directly
-  Points x_;                          // the nodes of the last set_surface() (far-field targets)
-  // Per slot 3e + k (element e's far-field point k): position (that of its source, so that the near
-  // field subtracts exactly what the far field added) and weighted normal ñ = w n = N/6.
-  std::vector<double> slot_y_, slot_n_;
-  std::vector<double> band_y_, band_n_;   // the 3-point rule of every element (band), likewise
-  std::vector<double> ring_y_, ring_n_;   // the 7-point rule of every element (near ring)
-  std::vector<double> src_, src_n_;       // per source: position and summed ñ of its slots
+  // Sources: each slot's position and weighted normal ñ = w N (= w n J); per source the summed ñ.
+  FarField<fmm::Stresslet> far_;
+  std::vector<InexactFmm> inexact_fmms_;  // loosest allowance first
+  int refresh_fmm_ = -1;                  // the refresh pass's FMM in far_, if above the main one's order
+  std::vector<double> band_y_, band_n_;   // the 3-point rule of every element (band): positions, w N
+  std::vector<double> ring_y_, ring_n_;   // the 7-point rule of every element (near ring), likewise
   std::vector<double> density_;           // (u(y), ñ) per source: the far field of apply()
   std::vector<double> unit_far_;          // far field of the unit constants (6 per node, symmetric)
   // Near-field correction: per node i, symmetric blocks B_ij (xx yy zz xy xz yz) for the vertices j
@@ -189,12 +191,10 @@ class DoubleLayer {
   // 1/8π. slot_ maps (node, listed element) to the blocks of its 3 vertices, in list order.
   std::vector<int> block_start_, block_col_, slot_start_, slot_;
   std::vector<double> block_, diagonal_;
+  std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
   std::unique_ptr<IdentityTermCache> identity_;  // D̃[1]'s reuse (flat facets, FMM back end)
   std::vector<double> sample_x_, sample_far_;    // the samples' positions, their far field of the unit constants
   std::vector<Mat3> sample_exact_;               // D̃[1] there
-  std::unique_ptr<fmm::Fmm<fmm::Stresslet>> fmm_refresh_;  // the refresh pass's order, if above fmm_'s
-  std::vector<int> node_order_;  // breadth-first over the mesh: the near-field assembly's visiting order
-  FarFieldCheckLog checks_;
   PhaseTimes times_;
   double setup_seconds_ = 0, apply_seconds_ = 0;
   long setups_ = 0, applications_ = 0, inexact_applications_ = 0;

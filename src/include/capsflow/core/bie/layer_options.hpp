@@ -1,6 +1,6 @@
 #pragma once
 // The options both layer operators read (single_layer.hpp, double_layer.hpp): the far field's
-// back end, tolerance and rule, the surface, and the near field's quadrature; and
+// back end, tolerance and rule (far_field.hpp), the surface, and the near field's quadrature; and
 // what their automatic values resolve to. Each operator's own options add to these:
 // SingleLayerOptions (the refined ring) and DoubleLayerOptions (the reuse of D̃[1]).
 #include "capsflow/core/bie/backend_choice.hpp"

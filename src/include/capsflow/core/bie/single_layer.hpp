@@ -11,20 +11,19 @@
 //                capsflow::fmm (FMM or direct; the same sum), with weights w = J/6 (= A_e/3 when
 //                flat): on flat facets the edge-midpoint rule, whose points the two elements of an
 //                edge share (one source per edge: 3N sources for N nodes); on curved elements the
-//                3-point Gauss rule (6N), whose smaller error their O(h⁴) geometry needs;
+//                3-point Gauss rule (6N), whose smaller error their O(h⁴) geometry needs
+//                (far_field.hpp: the same component sums the double layer's far field);
 //   near field — on the elements near x_i (near_field.hpp) the far-field contributions are
 //                replaced: by the exact integral on the touching elements (singular_element_integral),
 //                a refined rule on the next ring, the 3-point Gauss rule on a band beyond it.
 // Both back ends therefore compute the same discrete operator, to the FMM tolerance. Vertex
 // (nodal) sources would be N, but their error is of the size of the faceting error however wide
 // the corrected region (docs/boundary-integral.md §4.2.1).
-#include <array>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include "capsflow/core/bie/backend_choice.hpp"
 #include "capsflow/core/bie/boundary_surface.hpp"
+#include "capsflow/core/bie/far_field.hpp"
 #include "capsflow/core/bie/layer_options.hpp"
 #include "capsflow/core/bie/near_field.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
@@ -35,11 +34,8 @@
 namespace capsflow {
 namespace fmm {
 struct Stokeslet;
-template <class K>
-class Fmm;
 }  // namespace fmm
 struct OffSurfaceReport;
-
 
 // The single layer's options: those both layers share (layer_options.hpp), and the refined ring.
 struct SingleLayerOptions : LayerOptions {
@@ -48,30 +44,6 @@ struct SingleLayerOptions : LayerOptions {
   // 4^depth parts, computed per node; 0: the 7-point rule once per element; −1: no ring.
   int near_ring_depth = 0;
 };
-
-// The far field of one apply() against its direct re-summation: the largest and the RMS node
-// difference, both relative to the largest directly summed far-field velocity.
-struct FarFieldCheck {
-  long evaluation = 0;  // which apply() (0-based, counted by this operator)
-  double max_relative = 0, rms_relative = 0;
-};
-
-// An operator's direct checks so far (LayerOptions::verify_every): how many, the latest, the
-// one with the largest max difference, the largest RMS, and how many exceeded the tolerance.
-struct FarFieldCheckLog {
-  long checks = 0, above_tolerance = 0;
-  FarFieldCheck last, worst;
-  double worst_rms = 0;
-  void add(const FarFieldCheck& c, double tolerance);
-};
-
-// One check: n target values of `dim` components as summed (far) against the direct re-summation
-// (ref). The difference at a target is the Euclidean norm of its components' differences (a
-// symmetric matrix given by its 6 upper entries, xx yy zz xy xz yz, counts its off-diagonal
-// entries twice: the Frobenius norm); max and RMS over the targets, both relative to the largest
-// reference norm (a zero reference gives 0: agreement, not 0/0).
-FarFieldCheck compare_far_field(const double* far, const double* ref, std::size_t n, int dim, long evaluation);
-
 
 // The automatic corrected_layers with the edge-midpoint far field (docs/boundary-integral.md
 // §4.2.2: from there on the midpoint rule is as accurate as the 3-point far field it replaced).
@@ -87,51 +59,42 @@ class SingleLayer {
   // u_i at every node x_i (u is resized to N×3).
   void apply(const Points& x, const Points& q, Points& u);
 
-  FarFieldBackend backend() const { return backend_; }
-  FarFieldRule far_rule() const { return far_rule_; }
-  Eigen::Index far_field_sources() const { return static_cast<Eigen::Index>(source_slots_.size()); }
+  FarFieldBackend backend() const { return far_.backend(); }
+  FarFieldRule far_rule() const { return far_.rule(); }
+  Eigen::Index far_field_sources() const { return far_.sources(); }
   const NearFieldLists& near_field_lists() const { return lists_; }
-  const std::string& backend_reason() const { return reason_; }
-  int fmm_order() const;
-  int fmm_leaf_size() const;  // points per leaf of the FMM's tree; 0 with the direct far field
+  const std::string& backend_reason() const { return far_.reason(); }
+  int fmm_order() const { return far_.fmm_order(); }
+  int fmm_leaf_size() const { return far_.fmm_leaf_size(); }  // points per leaf of the FMM's tree; 0 with the direct far field
   // Seconds in the phases BieSources, BieFar and BieNear, summed over apply() calls.
   const PhaseTimes& times() const { return times_; }
   long evaluations() const { return evaluations_; }
-  // Direct checks of the far field made so far (LayerOptions::verify_every).
-  const FarFieldCheckLog& far_field_checks() const { return checks_; }
+  // Direct checks of the far field made so far (LayerOptions::verify_every: every verify_every-th
+  // apply(), the first one included).
+  const FarFieldCheckLog& far_field_checks() const { return far_.checks(); }
 
  private:
   void build_sources(const Points& x, const Points& q);
-  void far_field(const double* targets, Eigen::Index n_targets, double* out, bool targets_are_nodes);
+  void far_field(double* out, bool at_nodes);  // at far_'s targets: the nodes, or points off the surface
   void correct_near_field(const Points& x, const Points& q, Points& u);
-  void check_far_field(const Points& x, const Points& far);  // far: the far field just summed
 
   Triangles tri_;
   Eigen::Index n_nodes_;
   SingleLayerOptions opt_;
   int threads_;                                    // OpenMP threads of every parallel region
-  FarFieldBackend backend_;
-  std::string reason_;
-  FarFieldRule far_rule_;
   bool mixed_precision_ = false;  // direct far field with single-precision pairs (tolerance >= 1e-5)
   GaussLegendre rule_, rule_u_;
   NearFieldLists lists_;
   BoundarySurface surface_;                        // the flat or curved elements of the current surface
+  FarField<fmm::Stokeslet> far_;                   // sources: the load's force at each rule point
   std::vector<StokesletBatch> batches_;            // one per thread, reused across calls
-  // Far field: element e's rule point k is slot 3e + k; slots that coincide (the two sides of an
-  // edge, with the midpoint rule) are one source.
-  std::vector<std::array<int, 2>> source_slots_;   // per source: its slots (near_field.hpp)
-  std::vector<double> src_, strength_;             // per source: position and summed strength (xyz)
   // Per element, the near field's terms (stokeslet_block.hpp): far_block_ lanes 0–2 the band's
   // 3-point rule, lanes 3–5 the far-field terms negated (exactly the far field's positions);
   // ring_block_ lanes 0–6 the ring's 7-point rule.
   static constexpr int kBandLane = 0, kFarLane = 3;
   std::vector<StokesletBlock> far_block_, ring_block_;
-  std::unique_ptr<fmm::Fmm<fmm::Stokeslet>> fmm_;
   PhaseTimes times_;
   long evaluations_ = 0;
-  FarFieldCheckLog checks_;
-  std::vector<double> direct_scratch_;  // the direct re-summation (allocated on the first check)
 
   // Off-surface evaluation reuses the sources and far field of the current surface.
   friend void evaluate_off_surface(SingleLayer&, const Points&, const Points&, const Points&, Points&, OffSurfaceReport*);

@@ -1,7 +1,7 @@
 #pragma once
 // fluid.verify_every over a run (docs/scene-and-output.md §2.6): the boundary integral's operators
 // re-sum their far field directly every N evaluations and keep the latest, the worst and the count
-// above the tolerance (bie/single_layer.hpp, FarFieldCheckLog). This adds the run's side for one
+// above the tolerance (bie/far_field.hpp, FarFieldCheckLog). This adds the run's side for one
 // operator — the single layer, and with fluid.viscosity_ratio ≠ 1 a second watch for the double
 // layer: the latest check for the timeseries.csv rows, the worst over the whole run (restarted
 // segments included, through the checkpoint) and the time it happened for summary.json, and one
@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/bie/far_field.hpp"
 #include "capsflow/core/io/timeseries_csv.hpp"
 
 namespace capsflow {
