@@ -6,6 +6,8 @@
                                              scene to γ̇t = 2, one at a time, on one thread (so no
                                              reduction order can differ between the two builds)
   compare: same_numbers.py compare DIR_A DIR_B [--expect KEY ...]
+                                             every run folder of either (so also folders of runs
+                                             made by hand with other --set values)
 
 compare reads each run's summary.json and checks every numeric value, nested ones included, to a
 relative 1e-13 (|a − b| ≤ 1e-13 max(|a|, |b|)), and the integer counts (steps, evaluations,
@@ -89,9 +91,10 @@ def expected(problem, expect):
 
 
 def compare(dir_a, dir_b, expect=()):
-    root = pathlib.Path(__file__).resolve().parents[2]
     bad = 0
-    for name, _ in cases(root):
+    names = sorted({d.name for d in pathlib.Path(dir_a).iterdir() if d.is_dir()} |
+                   {d.name for d in pathlib.Path(dir_b).iterdir() if d.is_dir()})
+    for name in names:
         fa, fb = pathlib.Path(dir_a, name, "summary.json"), pathlib.Path(dir_b, name, "summary.json")
         if not fa.exists() or not fb.exists():
             print(f"{name}: missing summary.json ({fa.exists()=}, {fb.exists()=})")

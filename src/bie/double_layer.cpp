@@ -477,6 +477,16 @@ double DoubleLayer::apply_far_field(Points& out, double allowed_error) {
   return 0;
 }
 
+const std::vector<double>& DoubleLayer::identity_records() const {
+  static const std::vector<double> none;
+  return identity_ ? identity_->records() : none;
+}
+
+bool DoubleLayer::set_identity_records(const std::vector<double>& records, int count) {
+  if (!identity_) return records.empty();
+  return identity_->set_records(records, count);
+}
+
 Mat3 DoubleLayer::unit_constant_integral(Eigen::Index i) const {
   return 0.5 * Mat3::Identity() - symmetric_matrix(&diagonal_[6 * static_cast<size_t>(i)]);
 }

@@ -192,4 +192,10 @@ IdentityTermStats IdentityTermCache::stats() const {
   return st;
 }
 
+bool IdentityTermCache::set_records(const std::vector<double>& records, int count) {
+  if (records.size() != refreshed_.size() || count < 0 || count > 3) return false;
+  refreshed_ = records, refresh_records_ = count;
+  return true;
+}
+
 }  // namespace capsflow

@@ -133,13 +133,9 @@ class DoubleLayer {
   // how many refreshes they hold: all that a set-up carries to the next, which a checkpoint keeps
   // so that a restarted run continues bit for bit. set_identity_records puts them back; records of
   // another size (another back end or mesh) are refused: false, nothing changed.
-  const std::vector<double>& identity_records() const { return refreshed_; }
-  int identity_record_count() const { return refresh_records_; }
-  bool set_identity_records(const std::vector<double>& records, int count) {
-    if (records.size() != refreshed_.size() || count < 0 || count > 3) return false;
-    refreshed_ = records, refresh_records_ = records.empty() ? 0 : count;
-    return true;
-  }
+  const std::vector<double>& identity_records() const;
+  int identity_record_count() const { return identity_ ? identity_->record_count() : 0; }
+  bool set_identity_records(const std::vector<double>& records, int count);
 
  private:
   // An FMM of lower order for inexact steps (backend Fmm), added to the far field on the first

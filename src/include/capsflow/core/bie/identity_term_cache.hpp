@@ -94,6 +94,14 @@ class IdentityTermCache {
 
   IdentityTermStats stats() const;
 
+  // The records (per node E1, C1, E0, E−1 in the local frames, 24 doubles) and how many refreshes
+  // they hold: all that a set-up carries to the next, which a checkpoint keeps so that a restarted
+  // run continues bit for bit. set_records puts them back; records of another size (another mesh)
+  // or a count outside 0–3 are refused: false, nothing changed.
+  const std::vector<double>& records() const { return refreshed_; }
+  int record_count() const { return refresh_records_; }
+  bool set_records(const std::vector<double>& records, int count);
+
  private:
   Mat3 local_frame(const Points& x, Eigen::Index i) const;
   double sampled_drift(double s, double s2) const;  // the reuse's largest at the sample (after measure's fit)
