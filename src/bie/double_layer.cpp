@@ -125,12 +125,6 @@ void DoubleLayer::build_inexact_ladder() {
   }
 }
 
-int DoubleLayer::inexact_fmm_order() const {
-  for (const InexactFmm& t : inexact_fmms_)
-    if (t.allowed_error <= std::end(kInexactFmmAllowedErrors)[-1]) return t.order;
-  return 0;
-}
-
 void DoubleLayer::build_near_pattern() {
   // Columns of node i: the vertices of its touching, ring and band elements; slots in list order.
   block_start_.assign(1, 0);
@@ -491,12 +485,26 @@ Mat3 DoubleLayer::unit_constant_integral(Eigen::Index i) const {
   return 0.5 * Mat3::Identity() - symmetric_matrix(&diagonal_[6 * static_cast<size_t>(i)]);
 }
 
-std::vector<DoubleLayer::InexactFmmUse> DoubleLayer::inexact_fmm_uses() const {
-  std::vector<InexactFmmUse> uses;
-  for (const InexactFmm& t : inexact_fmms_) uses.push_back({t.allowed_error, t.order, t.applications});
-  return uses;
+DoubleLayerDiagnostics DoubleLayer::diagnostics() const {
+  DoubleLayerDiagnostics d;
+  d.backend = far_.backend();
+  d.backend_reason = far_.reason();
+  d.far_field_sources = far_.sources();
+  d.fmm_order = far_.fmm_order();
+  d.refresh_fmm_order = far_.fmm_order(refresh_fmm_ >= 0 ? refresh_fmm_ : kMainFmm);
+  for (const InexactFmm& t : inexact_fmms_) {
+    d.inexact_fmm_uses.push_back({t.allowed_error, t.order, t.applications});
+    if (t.allowed_error <= std::end(kInexactFmmAllowedErrors)[-1]) d.inexact_fmm_order = t.order;
+  }
+  d.blocks_per_node = static_cast<double>(block_col_.size()) / static_cast<double>(n_nodes_);
+  d.near_field_megabytes = (8.0 * static_cast<double>(block_.size() + diagonal_.size()) +
+                            4.0 * static_cast<double>(block_col_.size() + slot_.size() + block_start_.size() + slot_start_.size())) /
+                           1e6;
+  d.setups = setups_, d.applications = applications_, d.inexact_applications = inexact_applications_;
+  d.setup_seconds = setup_seconds_, d.apply_seconds = apply_seconds_;
+  d.reuses_identity_term = identity_ != nullptr;
+  if (identity_) d.identity = identity_->stats();
+  return d;
 }
-
-int DoubleLayer::refresh_fmm_order() const { return far_.fmm_order(refresh_fmm_ >= 0 ? refresh_fmm_ : kMainFmm); }
 
 }  // namespace capsflow

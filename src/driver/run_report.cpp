@@ -115,30 +115,30 @@ nlohmann::json Simulation::Impl::summary() const {
   summary["theta"] = last_plane_shape.theta * 180 / M_PI;
   summary["tank_treading"] = std::isfinite(last_tank_treading) ? nlohmann::json(last_tank_treading) : nlohmann::json();
   if (dyn->viscosity_ratio_solver()) {
-    const DoubleLayer& D = dyn->viscosity_ratio_solver()->double_layer();
+    const DoubleLayerDiagnostics D = dyn->viscosity_ratio_solver()->double_layer().diagnostics();
     summary["viscosity_ratio"] = {{"lambda", scene.fluid.viscosity_ratio},
                                   {"gmres_per_eval_max", st.gmres_per_eval_max},
-                                  {"double_layer_backend", to_string(D.backend())},
-                                  {"double_layer_backend_reason", D.backend_reason()},
+                                  {"double_layer_backend", to_string(D.backend)},
+                                  {"double_layer_backend_reason", D.backend_reason},
                                   // where the second-kind solve's time goes (this segment's operator)
-                                  {"double_layer_set_ups", D.setups()},
-                                  {"double_layer_set_up_seconds", D.setup_seconds()},
-                                  {"double_layer_applications", D.applications()},
-                                  {"double_layer_inexact_applications", D.inexact_applications()},
-                                  {"double_layer_apply_seconds", D.apply_seconds()},
+                                  {"double_layer_set_ups", D.setups},
+                                  {"double_layer_set_up_seconds", D.setup_seconds},
+                                  {"double_layer_applications", D.applications},
+                                  {"double_layer_inexact_applications", D.inexact_applications},
+                                  {"double_layer_apply_seconds", D.apply_seconds},
                                   {"gmres_bound_restarts", dyn->viscosity_ratio_solver()->bound_restarts()}};
     // The inexact Krylov steps by the FMM order they took (docs/boundary-integral.md §4.8.3).
     nlohmann::json by_order = nlohmann::json::object();
-    for (const auto& t : D.inexact_fmm_uses()) by_order[std::to_string(t.order)] = t.applications;
+    for (const auto& t : D.inexact_fmm_uses) by_order[std::to_string(t.order)] = t.applications;
     if (!by_order.empty()) summary["viscosity_ratio"]["double_layer_inexact_by_fmm_order"] = by_order;
     // D̃[1]'s reused error term (docs/boundary-integral.md §4.7.5), this segment's operator.
-    if (D.reuses_identity_term())
-      summary["viscosity_ratio"]["identity_term"] = {{"refreshes", D.identity_refreshes()},
-                                                     {"max_drift", D.identity_max_drift()},
-                                                     {"max_drift_over_sampled", D.identity_max_drift_over_sampled()},
-                                                     {"max_reused_sampled_drift", D.identity_max_reused_drift()},
-                                                     {"samples", D.identity_samples()},
-                                                     {"refresh_fmm_order", D.refresh_fmm_order()}};
+    if (D.reuses_identity_term)
+      summary["viscosity_ratio"]["identity_term"] = {{"refreshes", D.identity.refreshes},
+                                                     {"max_drift", D.identity.max_drift},
+                                                     {"max_drift_over_sampled", D.identity.max_drift_over_sampled},
+                                                     {"max_reused_sampled_drift", D.identity.max_reused_drift},
+                                                     {"samples", D.identity.samples.size()},
+                                                     {"refresh_fmm_order", D.refresh_fmm_order}};
   }
   if (far_check->enabled()) summary[far_check->name()] = far_check->summary(dyn->single_layer());
   if (dl_far_check->enabled())

@@ -73,15 +73,15 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     // The second-kind solve (docs/boundary-integral.md §4.8); its near-field lists depend on the geometry only.
     DoubleLayerOptions dl_options = double_layer_options(scene);
     dl_options.backend = BackendRequest::Direct;  // the near field's size only (no FMM set-up here)
-    const DoubleLayer dl(mesh.triangles, mesh.num_nodes(), dl_options);
+    const DoubleLayerDiagnostics dl = DoubleLayer(mesh.triangles, mesh.num_nodes(), dl_options).diagnostics();
     std::string dl_why;  // the run's choice: by fluid.backend, or the stresslet FMM's crossover
     const FarFieldBackend dl_backend =
-        choose_backend(scene.fluid.backend, FarFieldKernel::DoubleLayer, dl.far_field_sources(), mesh.num_nodes(),
+        choose_backend(scene.fluid.backend, FarFieldKernel::DoubleLayer, dl.far_field_sources, mesh.num_nodes(),
                        scene.fluid.tolerance, &dl_why);
-    double_layer_set_up_direct(scene.fluid.backend, dl_backend, dl.far_field_sources(), mesh.num_nodes(), scene.fluid.tolerance, &dl_why);
+    double_layer_set_up_direct(scene.fluid.backend, dl_backend, dl.far_field_sources, mesh.num_nodes(), scene.fluid.tolerance, &dl_why);
     const double lambda = scene.fluid.viscosity_ratio;
     run["viscosity_ratio"] = {{"lambda", lambda}, {"kappa", (1 - lambda) / (1 + lambda)},
-                              {"near_field_mb", dl.near_field_megabytes()}, {"max_gmres", scene.fluid.max_gmres},
+                              {"near_field_mb", dl.near_field_megabytes}, {"max_gmres", scene.fluid.max_gmres},
                               {"double_layer_backend", to_string(dl_backend)}, {"double_layer_backend_reason", dl_why}};
   }
   const StabilityEstimate se = stability_estimate(scene, st.edge_min);
@@ -102,10 +102,10 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     seconds_per_eval = clock.seconds();
     if (const ViscosityRatioSolver* vr = dyn.viscosity_ratio_solver()) {
       // The repeated state needs no GMRES iteration; a run's evaluations take 1–3 (§4.8.3): count 2.
-      const DoubleLayer& dl = vr->double_layer();
-      const double per_iteration = dl.apply_seconds() / static_cast<double>(std::max(1L, dl.applications()));
+      const DoubleLayerDiagnostics dl = vr->double_layer().diagnostics();
+      const double per_iteration = dl.apply_seconds / static_cast<double>(std::max(1L, dl.applications));
       seconds_per_eval += static_cast<double>(std::max(0L, 2 - (dyn.counters().gmres_iterations - cold_iterations))) * per_iteration;
-      run["viscosity_ratio"]["setup_seconds"] = dl.setup_seconds() / static_cast<double>(std::max(1L, dl.setups()));
+      run["viscosity_ratio"]["setup_seconds"] = dl.setup_seconds / static_cast<double>(std::max(1L, dl.setups));
       run["viscosity_ratio"]["seconds_per_iteration"] = per_iteration;
       run["viscosity_ratio"]["cold_iterations"] = cold_iterations;
     }

@@ -198,7 +198,7 @@ TEST(BackendChoice, TheDoubleLayersFmmOrderMeetsItsToleranceRelativeToTheDensity
   DoubleLayer D(m.triangles, m.num_nodes(), fmm_opt);
   D.set_surface(m.vertices);
   EXPECT_EQ(D.fmm_order(), 9);
-  EXPECT_EQ(D.inexact_fmm_order(), 7);
+  EXPECT_EQ(D.diagnostics().inexact_fmm_order, 7);
   for (const Points* u : {&smooth, &random}) {
     Points exact, fast, inexact;
     ref.apply(*u, exact);
@@ -303,7 +303,7 @@ TEST(BackendChoice, TheOperatorsCountOneSourcePerEdgeOrThreePerCurvedElement) {
       DoubleLayerOptions dl_o;
       dl_o.geometry = g;
       const DoubleLayer D(m.triangles, m.num_nodes(), dl_o);
-      EXPECT_EQ(D.far_field_sources(), sources);
+      EXPECT_EQ(D.diagnostics().far_field_sources, sources);
       EXPECT_EQ(D.backend(), choose_backend(BackendRequest::Auto, FarFieldKernel::DoubleLayer, sources, m.num_nodes(),
                                             o.tolerance, nullptr))
           << level;

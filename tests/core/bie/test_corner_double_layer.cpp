@@ -156,7 +156,7 @@ ReuseCheck reuse_after(const std::function<Points(const Points&)>& move) {
   opt.fmm_order = 12;                 // far below the drifts measured here, whatever the tolerance
   opt.tolerance = 1e-4;
   DoubleLayer D(m.triangles, m.num_nodes(), opt);
-  EXPECT_TRUE(D.reuses_identity_term());
+  EXPECT_TRUE(D.diagnostics().reuses_identity_term);
   D.set_surface(x);
   std::vector<Mat3> before(static_cast<size_t>(x.rows()));
   for (Eigen::Index i = 0; i < x.rows(); ++i) before[static_cast<size_t>(i)] = D.unit_constant_integral(i);
@@ -169,7 +169,7 @@ ReuseCheck reuse_after(const std::function<Points(const Points&)>& move) {
     c.reused = std::max(c.reused, (D.unit_constant_integral(i) - F.unit_constant_integral(i)).norm());
     c.whole = std::max(c.whole, (before[static_cast<size_t>(i)] - F.unit_constant_integral(i)).norm());
   }
-  c.refreshes = D.identity_refreshes();
+  c.refreshes = D.diagnostics().identity.refreshes;
   return c;
 }
 }  // namespace
@@ -247,7 +247,7 @@ TEST(DoubleLayerIdentityReuse, ALocalJumpBetweenTheSamplesForcesARefresh) {
     DoubleLayer D(m.triangles, m.num_nodes(), opt);
     D.set_surface(x);
     std::vector<char> near_a_sample(static_cast<size_t>(x.rows()), 0);
-    for (const int s : D.identity_sample_nodes())
+    for (const int s : D.diagnostics().identity.samples)
       for (Eigen::Index t = 0; t < m.triangles.rows(); ++t)
         if ((m.triangles.row(t).array() == s).any())
           for (int c = 0; c < 3; ++c) near_a_sample[static_cast<size_t>(m.triangles(t, c))] = 1;
@@ -257,8 +257,8 @@ TEST(DoubleLayerIdentityReuse, ALocalJumpBetweenTheSamplesForcesARefresh) {
     Points y = x;
     y.row(bumped) *= 1.003;  // the node 0.003–0.0045 out, ~a tenth of an edge (~0.04 at level 4)
     D.set_surface(y);
-    EXPECT_EQ(D.identity_refreshes(), 2);
-    EXPECT_EQ(D.identity_sampled_drift(), 0.0);  // forced: the sample was not asked
+    EXPECT_EQ(D.diagnostics().identity.refreshes, 2);
+    EXPECT_EQ(D.diagnostics().identity.sampled_drift, 0.0);  // forced: the sample was not asked
     EXPECT_LT(error_against(D, *full_pass(y)), 1e-12);  // the full pass itself
   }
   {
@@ -268,10 +268,10 @@ TEST(DoubleLayerIdentityReuse, ALocalJumpBetweenTheSamplesForcesARefresh) {
     y.col(0) *= 1.05;
     D.set_surface(y);
     const double error = error_against(D, *full_pass(y));
-    std::printf("5 %% stretch: sampled drift %.3e, reused against the full pass %.3e\n", D.identity_sampled_drift(), error);
-    EXPECT_EQ(D.identity_refreshes(), 1);
-    EXPECT_GT(D.identity_sampled_drift(), 0.0);  // measured, not forced
-    EXPECT_LT(error, 2 * D.identity_sampled_drift());  // the sample's margin of 2 over the nodes between
+    std::printf("5 %% stretch: sampled drift %.3e, reused against the full pass %.3e\n", D.diagnostics().identity.sampled_drift, error);
+    EXPECT_EQ(D.diagnostics().identity.refreshes, 1);
+    EXPECT_GT(D.diagnostics().identity.sampled_drift, 0.0);  // measured, not forced
+    EXPECT_LT(error, 2 * D.diagnostics().identity.sampled_drift);  // the sample's margin of 2 over the nodes between
   }
 }
 
@@ -291,12 +291,12 @@ TEST(DoubleLayerIdentityReuse, ASetUpOffTheTrajectoryNeverRefreshes) {
   DoubleLayer D(m.triangles, m.num_nodes(), opt);
   D.set_surface(x);
   D.set_surface(x1);
-  ASSERT_EQ(D.identity_refreshes(), 1);
+  ASSERT_EQ(D.diagnostics().identity.refreshes, 1);
   D.set_surface(y, nullptr, nullptr, false);
-  EXPECT_EQ(D.identity_refreshes(), 1);
-  EXPECT_GT(D.identity_sampled_drift(), 1.25e-7);  // what a trajectory set-up would have refreshed for
+  EXPECT_EQ(D.diagnostics().identity.refreshes, 1);
+  EXPECT_GT(D.diagnostics().identity.sampled_drift, 1.25e-7);  // what a trajectory set-up would have refreshed for
   D.set_surface(y);
-  EXPECT_EQ(D.identity_refreshes(), 2);
+  EXPECT_EQ(D.diagnostics().identity.refreshes, 2);
 }
 
 // A surface that deforms and turns along a curved path (stretches sin t, −t/10 and 0.3 t², a turn
@@ -332,24 +332,24 @@ TEST(DoubleLayerIdentityReuse, ExtrapolatedAlongACurvedPathStaysWithinTheAllowan
     const Points y = surface(0.005 * step);
     D.set_surface(y);
     F.set_surface(y);
-    if (D.identity_extrapolation() != 0) ++extrapolated;
+    if (D.diagnostics().identity.extrapolation != 0) ++extrapolated;
     for (Eigen::Index i = 0; i < y.rows(); ++i)
       worst = std::max(worst, (D.unit_constant_integral(i) - F.unit_constant_integral(i)).norm());
   }
   std::printf("curved path: %d set-ups, %ld refreshes, %d extrapolated, worst %.3e, largest reused sampled drift %.3e, "
               "refreshes called by the sample: all-node drift up to %.3e, %.3f× the sampled\n",
-              setups, D.identity_refreshes(), extrapolated, worst, D.identity_max_reused_drift(), D.identity_max_drift(),
-              D.identity_max_drift_over_sampled());
+              setups, D.diagnostics().identity.refreshes, extrapolated, worst, D.diagnostics().identity.max_reused_drift, D.diagnostics().identity.max_drift,
+              D.diagnostics().identity.max_drift_over_sampled);
   EXPECT_LE(worst, 2.5e-7);                      // the allowance: a quarter of the tolerance
-  EXPECT_LE(D.identity_max_reused_drift(), 1.25e-7);  // the sample's own threshold (checks the bookkeeping)
+  EXPECT_LE(D.diagnostics().identity.max_reused_drift, 1.25e-7);  // the sample's own threshold (checks the bookkeeping)
   // Refreshes called by the sample: it saw more than 1.25e-7, so the all-node drift they measure is
   // at least that; its ratio to the sampled drift must stay under the sample's margin of 2 (the
   // rule's other half covers the nodes between the samples).
-  EXPECT_GE(D.identity_max_drift(), 1.25e-7);
+  EXPECT_GE(D.diagnostics().identity.max_drift, 1.25e-7);
   // The samples are among all nodes; the refresh pass's FMM error (~1e-8 at p = 10) against a drift
   // of ≥ 1.25e-7 can lower the ratio by under a tenth.
-  EXPECT_GE(D.identity_max_drift_over_sampled(), 0.9);
-  EXPECT_LT(D.identity_max_drift_over_sampled(), 2.0);
-  EXPECT_LT(D.identity_refreshes(), setups / 3);
+  EXPECT_GE(D.diagnostics().identity.max_drift_over_sampled, 0.9);
+  EXPECT_LT(D.diagnostics().identity.max_drift_over_sampled, 2.0);
+  EXPECT_LT(D.diagnostics().identity.refreshes, setups / 3);
   EXPECT_GT(extrapolated, 0);
 }

@@ -298,7 +298,7 @@ TEST(DoubleLayerSpheroid, SetUpWithItsFirstApplicationEqualsSetUpThenApply) {
     // relative; 1e-12 leaves room for the FMM's different accumulation order.
     EXPECT_LT((Bu - Au).cwiseAbs().maxCoeff(), 1e-12 * scale) << to_string(b);
     EXPECT_LT((Bv - Av).cwiseAbs().maxCoeff(), 1e-12 * Av.cwiseAbs().maxCoeff()) << to_string(b);
-    EXPECT_EQ(B.applications(), 2);  // the fused call counts as an application
+    EXPECT_EQ(B.diagnostics().applications, 2);  // the fused call counts as an application
   }
 }
 
@@ -318,8 +318,8 @@ TEST(DoubleLayerSpheroid, DirectSetUpPassWithFmmApplicationsMatchesTheDirectOper
   DoubleLayer A(m.triangles, m.num_nodes(), opt);
   opt.backend = BackendRequest::Direct;
   DoubleLayer D(m.triangles, m.num_nodes(), opt);
-  ASSERT_EQ(A.backend(), FarFieldBackend::Fmm) << A.backend_reason();
-  EXPECT_NE(A.backend_reason().find("set-up pass"), std::string::npos) << A.backend_reason();
+  ASSERT_EQ(A.backend(), FarFieldBackend::Fmm) << A.diagnostics().backend_reason;
+  EXPECT_NE(A.diagnostics().backend_reason.find("set-up pass"), std::string::npos) << A.diagnostics().backend_reason;
   for (int move = 0; move < 2; ++move) {
     if (move == 1) x.col(0) *= 1.1;  // a new surface
     Points Au, Au2, Du;
@@ -366,7 +366,7 @@ TEST(DoubleLayerSpheroid, InexactApplicationsStayWellWithinTheAllowedError) {
         EXPECT_EQ((just_below - exact).norm(), 0.0);  // below the threshold: pairs in double
       }
     }
-    EXPECT_EQ(D.inexact_applications(), fmm::kMixedPrecisionDirectSum ? 2 : 0);
+    EXPECT_EQ(D.diagnostics().inexact_applications, fmm::kMixedPrecisionDirectSum ? 2 : 0);
   }
 }
 
@@ -380,7 +380,7 @@ TEST(DoubleLayerSpheroid, InexactFmmApplicationsStayWithinTheAllowedError) {
   opt.backend = BackendRequest::Fmm;
   opt.tolerance = 1e-6;
   DoubleLayer D(m.triangles, m.num_nodes(), opt);
-  ASSERT_GT(D.inexact_fmm_order(), 0);
+  ASSERT_GT(D.diagnostics().inexact_fmm_order, 0);
   D.set_surface(x);
   for (const Points* v : {static_cast<const Points*>(&u), &rough}) {
     Points exact, inexact;
@@ -392,12 +392,12 @@ TEST(DoubleLayerSpheroid, InexactFmmApplicationsStayWithinTheAllowedError) {
     EXPECT_LT((inexact - exact).norm(), 1e-4 * exact.norm());
     EXPECT_GT((inexact - exact).norm(), 0.0);  // the other FMM did run
   }
-  EXPECT_EQ(D.inexact_applications(), 2);
+  EXPECT_EQ(D.diagnostics().inexact_applications, 2);
   // Looser allowances take lower orders still (the GMRES steps near convergence): each within a
   // quarter of its allowance relative to the density in L2 (double_layer_fmm_tolerance's promise,
   // the solve's contract), each order below the next stricter one's, each taken only from its
   // allowance on.
-  const auto tiers = D.inexact_fmm_uses();
+  const auto tiers = D.diagnostics().inexact_fmm_uses;
   ASSERT_EQ(tiers.size(), 4u);  // p = 4, 5, 6, 7 below the exact p = 9 (kDoubleLayerOrders)
   for (size_t k = 0; k + 1 < tiers.size(); ++k) {
     EXPECT_GT(tiers[k].allowed_error, tiers[k + 1].allowed_error);
@@ -417,7 +417,7 @@ TEST(DoubleLayerSpheroid, InexactFmmApplicationsStayWithinTheAllowedError) {
       EXPECT_LT((inexact - exact).norm(), committed * v->norm()) << "order " << t.order;
       EXPECT_GT((inexact - just_below).norm(), 0.0) << "order " << t.order;  // a different FMM ran
     }
-  const auto used = D.inexact_fmm_uses();
+  const auto used = D.diagnostics().inexact_fmm_uses;
   // Per tier two densities at its allowance, two just below the next looser tier's, and the
   // strictest the two of the first part.
   for (size_t k = 0; k < used.size(); ++k)

@@ -257,7 +257,7 @@ TEST(Dynamics, TheFarRuleKeyReachesBothOperators) {
   const Eigen::Index m = ref.triangles.rows();
   EXPECT_EQ(da.single_layer().far_field_sources(), 3 * m / 2);
   EXPECT_EQ(dg.single_layer().far_field_sources(), 3 * m);
-  EXPECT_EQ(dg.viscosity_ratio_solver()->double_layer().far_field_sources(), 3 * m);
+  EXPECT_EQ(dg.viscosity_ratio_solver()->double_layer().diagnostics().far_field_sources, 3 * m);
   Points x = ref.vertices, va, vg;
   x.col(0) *= 1.2;  // a loaded shape, so that the wall pushes
   da.velocity(x, va);

@@ -57,6 +57,35 @@ struct DoubleLayerOptions : LayerOptions {
 // (perf/bie/double_layer_band), so none beyond the near ring.
 inline constexpr int kAutoDoubleLayerCorrectedLayers = 1;
 
+// Per inexact FMM (DoubleLayer::apply), loosest first: the allowance from which it is taken, its
+// order, its applications.
+struct InexactFmmUse {
+  double allowed_error;
+  int order;
+  long applications;
+};
+
+// What the double layer reports about itself — summary.json's viscosity_ratio, capsflow info,
+// perf/bie and the tests read it; the solve does not.
+struct DoubleLayerDiagnostics {
+  FarFieldBackend backend = FarFieldBackend::Direct;
+  std::string backend_reason;
+  Eigen::Index far_field_sources = 0;
+  int fmm_order = 0;                  // 0 with the direct far field
+  int refresh_fmm_order = 0;          // D̃[1]'s refresh pass's FMM order (fmm_order if not above it)
+  int inexact_fmm_order = 0;          // the order taken from allowed_error = 1e-4; 0 without one
+  std::vector<InexactFmmUse> inexact_fmm_uses;
+  double blocks_per_node = 0;         // near-field blocks per node (6 doubles and an int each)
+  double near_field_megabytes = 0;    // the near-field matrix: blocks, their columns, slots, row starts
+  // Calls and their seconds: set_surface() (surface, near blocks, D̃[1], and its first application
+  // if asked) and apply(); applications that took the cheaper inexact far field (single-precision
+  // pairs or a lower-order FMM).
+  long setups = 0, applications = 0, inexact_applications = 0;
+  double setup_seconds = 0, apply_seconds = 0;
+  bool reuses_identity_term = false;  // D̃[1]'s error term reused (flat facets, FMM back end)
+  IdentityTermStats identity;         // its statistics (identity_term_cache.hpp)
+};
+
 class DoubleLayer {
  public:
   DoubleLayer(const Triangles& triangles, Eigen::Index n_nodes, const DoubleLayerOptions& opt = {});
@@ -81,9 +110,7 @@ class DoubleLayer {
   double apply(const Points& u, Points& out, double allowed_error = 0);
 
   FarFieldBackend backend() const { return far_.backend(); }
-  const std::string& backend_reason() const { return far_.reason(); }
   int fmm_order() const { return far_.fmm_order(); }  // 0 with the direct far field
-  Eigen::Index far_field_sources() const { return far_.sources(); }
   // Direct checks of the far field (LayerOptions::verify_every): on every verify_every-th
   // set_surface() (the first one included) the far field of the unit constants, D̃[1] (the
   // symmetric 3×3 per node), and that of the first application when set_surface is given u — both
@@ -91,44 +118,12 @@ class DoubleLayer {
   // again directly in full double precision and compared (compare_far_field); the check is the
   // worse of the two. Counted per surface: the log's `evaluation` is the set_surface() call.
   const FarFieldCheckLog& far_field_checks() const { return far_.checks(); }
-  // Near-field blocks per node (memory: 6 doubles and an int each).
-  double blocks_per_node() const { return static_cast<double>(block_col_.size()) / static_cast<double>(n_nodes_); }
-  // The near-field matrix's memory (blocks, their columns, slots, row starts), in MB.
-  double near_field_megabytes() const {
-    return (8.0 * static_cast<double>(block_.size() + diagonal_.size()) +
-            4.0 * static_cast<double>(block_col_.size() + slot_.size() + block_start_.size() + slot_start_.size())) / 1e6;
-  }
-  // Seconds in BieSources, BieFar and BieNear over all calls, and split by call: set_surface()
-  // (surface, near blocks, D̃[1], and its first application if asked) and apply().
+  // Seconds in BieSources, BieFar and BieNear over all calls (the run's phase times).
   const PhaseTimes& times() const { return times_; }
-  double setup_seconds() const { return setup_seconds_; }
-  double apply_seconds() const { return apply_seconds_; }
-  long setups() const { return setups_; }
-  long applications() const { return applications_; }
-  // Applications that used the cheaper inexact far field (single-precision pairs or the lower-order FMM).
-  long inexact_applications() const { return inexact_applications_; }
-  int inexact_fmm_order() const;  // the order taken from allowed_error = 1e-4; 0 without one
-  // Per inexact FMM, loosest first: the allowance from which it is taken, its order, its applications.
-  struct InexactFmmUse {
-    double allowed_error;
-    int order;
-    long applications;
-  };
-  std::vector<InexactFmmUse> inexact_fmm_uses() const;
   // D̃[1](x_i) in force on the current surface (the far pass's, or C + the reused error term).
   Mat3 unit_constant_integral(Eigen::Index i) const;
-  // The reuse of D̃[1]'s error term (flat facets, FMM back end; identity_term_cache.hpp): whether it
-  // is on, its statistics (IdentityTermStats).
-  bool reuses_identity_term() const { return identity_ != nullptr; }
-  long identity_refreshes() const { return identity_stats().refreshes; }
-  double identity_max_drift() const { return identity_stats().max_drift; }
-  double identity_max_reused_drift() const { return identity_stats().max_reused_drift; }
-  double identity_max_drift_over_sampled() const { return identity_stats().max_drift_over_sampled; }
-  double identity_sampled_drift() const { return identity_stats().sampled_drift; }
-  double identity_extrapolation() const { return identity_stats().extrapolation; }
-  std::size_t identity_samples() const { return identity_stats().samples.size(); }
-  std::vector<int> identity_sample_nodes() const { return identity_stats().samples; }
-  int refresh_fmm_order() const;  // the refresh pass's FMM order (fmm_order() if not above it)
+  // What the operator reports about itself (DoubleLayerDiagnostics).
+  DoubleLayerDiagnostics diagnostics() const;
   // The reuse's records (per node E1, C1, E0, E−1 in the local frames; empty without the reuse) and
   // how many refreshes they hold: all that a set-up carries to the next, which a checkpoint keeps
   // so that a restarted run continues bit for bit. set_identity_records puts them back; records of
@@ -165,7 +160,6 @@ class DoubleLayer {
   void fill_far_densities(const Points& u);                // density_ from u
   double apply_far_field(Points& out, double allowed_error);  // out = the far field of density_; the committed error
   void add_near_field(const Points& u, Points& out) const;  // out += near blocks and diagonal times u
-  IdentityTermStats identity_stats() const { return identity_ ? identity_->stats() : IdentityTermStats{}; }
 
   Triangles tri_;
   Eigen::Index n_nodes_;

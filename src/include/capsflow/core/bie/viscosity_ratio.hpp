@@ -100,6 +100,19 @@ class ViscosityRatioSolver {
   bool set_identity_records(const std::vector<double>& records, int count) { return D_.set_identity_records(records, count); }
 
  private:
+  struct System;  // one surface's weights, rigid modes and normals (viscosity_ratio.cpp)
+  // Where GMRES starts: the stages' combination of kept solutions (`predicted`), else the previous
+  // solution moved by the change of b, else b; without rigid part.
+  Eigen::VectorXd initial_guess(const System& s, const Eigen::VectorXd& b, bool probe, const Prediction& prediction,
+                                bool warm, bool& predicted) const;
+  // Sets the double layer up on x (with D_h of y from the same pass) and iterates R y = b from y;
+  // a probe with a base solves for the difference from it. Ay: Ã y of the last iterate.
+  GmresResult iterate(const Points& x, const System& s, const Eigen::VectorXd& b, Eigen::VectorXd& y, double v_norm,
+                      bool probe, bool warm, bool on_trajectory, Eigen::VectorXd& Ay);
+  // The trajectory's records after a solve: the warm start and the stage predictor's slot.
+  void remember(const Eigen::VectorXd& y, const Eigen::VectorXd& b, const Eigen::VectorXd& residual, bool converged,
+                const Prediction& prediction);
+
   double lambda_, kappa_;
   DoubleLayer D_;
   GmresOptions gmres_;
