@@ -82,8 +82,7 @@ class Scene:
         'source', 'scene_toml', 'note'; 'mesh' (elements, nodes, edges, edge_length, angle_deg,
         valence, volume, equivalent_radius, area, sphere_area, Le, L, D12, D13, D23); 'run' (backend,
         backend_reason, fmm_order_warning, stable_dt, spectral_radius, seconds_per_evaluation,
-        threads, scheme, time_plan, time_step, memory_mb, memory_fmm_operators,
-        memory_double_layer_fmm_operators). Up to 20 480
+        threads, scheme, time_plan, time_step, memory_mb, memory_double_layer_mb). Up to 20 480
         elements (or with probe=True) the right-hand side is evaluated, as `capsflow info` does: the
         time per evaluation (measured, NaN otherwise) and the spectral radius by power iteration."""
         if not isinstance(probe, bool):

@@ -121,9 +121,9 @@ int info_command(const InfoOptions& opt) {
       fmt::print("  {:<6g}        {:>3} stages, {:.0f} evaluations to t_end = {:g}{}\n", num(at["dt"]), at["stages"].get<int>(),
                  num(at["evaluations"]), t_end, wall(num(at["evaluations"])));
   }
-  fmt::print("memory          ~{:.0f} MB{}{}\n", num(r["memory_mb"]),
-             r["memory_fmm_operators"].get<bool>() ? " + FMM operators (~0.5 GB at p = 9)" : "",
-             r["memory_double_layer_fmm_operators"].get<bool>() ? " + stresslet FMMs (~0.95 GB: p = 9, 10, 7, 6, 5, 4)" : "");
+  const double dl_mb = num(r["memory_double_layer_mb"]);
+  fmt::print("memory          ~{:.0f} MB at the peak{} (2 threads; docs/scene-and-output.md §1.2)\n", num(r["memory_mb"]),
+             dl_mb > 0 ? fmt::format(", of which the double layer {:.0f} MB", dl_mb) : std::string());
   return 0;
 }
 

@@ -11,6 +11,7 @@
 #include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/taylor_deformation.hpp"
+#include "capsflow/core/info/memory_estimate.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/mesh/topology.hpp"
@@ -164,25 +165,10 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     if (plan.at_creases == CreaseAction::Loosen) run["time_step"]["tolerance_past_creases"] = plan.crease_tolerance;
   }
   run["time_step"]["t_end"] = scene.time.t_end;
-  // Measured peak RSS: ≈ 2.4 KB per element with the direct back end (48 MB at 20 480 elements);
-  // the FMM operators add a fixed amount per order (≈ 0.46 GB at p = 9, measured).
-  run["memory_mb"] = 2.4e-3 * static_cast<double>(mesh.num_elements()) + 15;
-  run["memory_fmm_operators"] = b == FarFieldBackend::Fmm;
-  // λ ≠ 1, the double layer alone (peak RSS of perf/bie/double_layer_bench at 5 120–81 920
-  // elements): its near-field blocks and rule points, ~2.1 KB per element with the direct far field
-  // (the slope of the peak RSS between 5 120 and 20 480 elements; 3.8 KB before its band was
-  // dropped, boundary-integral.md §4.7.3); with the FMM
-  // ~20 KB per element and the stresslet FMMs (operators and per-node buffers): the solve's order,
-  // the D̃[1] refresh pass's and the inexact Krylov steps' four (p = 9, 10, 7, 6, 5, 4 at tolerance
-  // 1e-6, the steps' built when first taken: an upper bound; the rest of the 3.29 GB peak at λ = 5 and 81 920 elements, ~0.95 GB, of which p = 5 and 4
-  // add 47 MB; 2.3 GB of 4.82 before the leaf of 1 300 at p ≥ 9 took a tree level off,
-  // perf/RESULTS.md §1.6).
-  run["memory_double_layer_fmm_operators"] = false;
-  if (run.contains("viscosity_ratio")) {
-    const bool dl_fmm = run["viscosity_ratio"]["double_layer_backend"] == to_string(FarFieldBackend::Fmm);
-    run["memory_mb"] = run["memory_mb"].get<double>() + (dl_fmm ? 20e-3 : 2.1e-3) * static_cast<double>(mesh.num_elements());
-    run["memory_double_layer_fmm_operators"] = dl_fmm;
-  }
+  // The peak memory (info/memory_estimate.hpp), for this mesh's counts.
+  const MemoryEstimate memory = estimate_peak_memory(scene, MeshCounts{st.elements, st.nodes, st.edges});
+  run["memory_mb"] = memory.total_mb();
+  run["memory_double_layer_mb"] = memory.double_layer_mb;
   info["run"] = run;
   return info;
 }

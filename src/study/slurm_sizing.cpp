@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "capsflow/core/bie/backend_choice.hpp"
-#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/info/memory_estimate.hpp"
 #include "capsflow/core/mesh/generation.hpp"
-#include "capsflow/core/scene/boundary_integral_options.hpp"
 
 namespace capsflow::study {
 
@@ -26,12 +24,7 @@ JobSize size_job(const Variant& v, const CostModel& cost, int threads, long prev
                                        std::pow(n / static_cast<double>(kReferenceElements), cost.exponent());
   s.minutes = std::max(kMinMinutes, static_cast<long>(std::ceil(kTimeMargin * s.predicted_seconds / 60.0 - 1e-9)));
   s.minutes = std::max(s.minutes, 2 * previous_minutes);
-  const MeshCounts counts = expected_counts(v.scene.mesh.base, v.level);
-  const SingleLayerOptions bie = boundary_integral_options(v.scene);
-  const bool fmm = choose_backend(v.scene.fluid.backend, FarFieldKernel::SingleLayer,
-                                  far_field_source_count(bie, counts.elements, counts.edges), counts.nodes,
-                                  v.scene.fluid.tolerance, nullptr) == FarFieldBackend::Fmm;
-  const double peak_mb = 2.4e-3 * n + 15 + (fmm ? 500 : 0);
+  const double peak_mb = estimate_peak_memory(v.scene, expected_counts(v.scene.mesh.base, v.level)).total_mb();
   s.memory_mb = static_cast<long>(std::ceil((2 * peak_mb + 200) / 100.0)) * 100;
   return s;
 }

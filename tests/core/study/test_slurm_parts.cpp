@@ -52,7 +52,8 @@ TEST(SlurmSizing, TimeMemoryAndThreadsFollowTheCostModelWithTheStatedMargins) {
   EXPECT_NEAR(l4.predicted_seconds, 14.3 * 5, 1e-9);
   EXPECT_EQ(l4.minutes, 10);  // 3 × 71.5 s < the 10 min floor
   EXPECT_EQ(l4.threads, 2);   // one thread per 2560 elements
-  // Memory: (2.4 KB × 5120 + 15 MB) × 2 + 200 MB → 300 MB with the direct far field at 5120 elements.
+  // Memory: the peak estimate × 2 + 200 MB, in 100 MB (info/memory_estimate.cpp): (3.6 kB × 5120 + 18 MB) × 2
+  // + 200 MB = 273 MB → 300 MB with the direct far field at 5120 elements.
   EXPECT_EQ(l4.memory_mb, 300);
   // Measured: 600 s at L4 predicts 600 × 4^1.5 = 4800 s at L5 (one size measured: β stays 1.5); × 3 → 240 min.
   cost.add("", 5120, 600);
@@ -61,10 +62,13 @@ TEST(SlurmSizing, TimeMemoryAndThreadsFollowTheCostModelWithTheStatedMargins) {
   EXPECT_NEAR(l5.predicted_seconds, 4800, 1e-6);
   EXPECT_EQ(l5.minutes, 240);
   EXPECT_EQ(l5.threads, 8);
-  EXPECT_EQ(l5.memory_mb, 400);  // (2.4 KB × 20 480 + 15 MB) × 2 + 200 MB = 328 MB, rounded up
-  // With the FMM its operators count: (2.4 KB × 1280 + 15 + 500 MB) × 2 + 200 MB = 1236 MB → 1300 MB.
+  EXPECT_EQ(l5.memory_mb, 400);  // (3.6 kB × 20 480 + 18 MB) × 2 + 200 MB = 383 MB, rounded up
+  // With the FMM its fixed part counts: (4.95 kB × 1280 + 475 MB) × 2 + 200 MB = 1163 MB → 1200 MB.
   const StudyPlan fmm = make_study_plan("", {"fluid.backend=fmm"}, {3}, {});
-  EXPECT_EQ(size_job(fmm.variants[0], cost, 0, 0).memory_mb, 1300);
+  EXPECT_EQ(size_job(fmm.variants[0], cost, 0, 0).memory_mb, 1200);
+  // And at λ ≠ 1 the double layer's: + (9.0 kB × 1280 + 2000 MB) × 2 = 5186 MB → 5200 MB.
+  const StudyPlan lambda = make_study_plan("", {"fluid.backend=fmm", "fluid.viscosity_ratio=5"}, {3}, {});
+  EXPECT_EQ(size_job(lambda.variants[0], cost, 0, 0).memory_mb, 5200);
   // A variant that ran out of time gets at least twice its last limit; --threads wins.
   EXPECT_EQ(size_job(p.variants[1], cost, 0, 45).minutes, 90);
   EXPECT_EQ(size_job(p.variants[2], cost, 3, 0).threads, 3);

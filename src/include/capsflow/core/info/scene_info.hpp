@@ -17,7 +17,7 @@
 //        dt_safety, steps, evaluations (2 per step + output_evaluations + rho_refreshes ×
 //        evaluations_per_refresh, _assumed when not measured); fixed (RKC): dt, stages, steps,
 //        evaluations; error_controlled (RKC): tolerance, at [{dt, stages, evaluations}]},
-//        memory_mb, memory_fmm_operators (bool)
+//        memory_mb, memory_double_layer_mb (info/memory_estimate.hpp)
 #include <nlohmann/json.hpp>
 
 #include "capsflow/core/scene/scene.hpp"

@@ -11,8 +11,8 @@
 // - threads: --threads when given, else one per 2560 elements rounded up to a power of two, 1 to
 //   16: below a few thousand elements per thread the rotation and mass solves' OpenMP barriers
 //   cost more than the threads bring (app/main.cpp). Not measured beyond 2 cores.
-// - memory: the measured peak of `capsflow info` (≈ 2.4 KB per element + 15 MB, plus ~0.5 GB of
-//   FMM operators when the FMM is chosen) × 2 + 200 MB, rounded up to 100 MB.
+// - memory: the peak that `capsflow info` estimates (info/memory_estimate.hpp: by back end, the
+//   double layer's included) × 2 + 200 MB, rounded up to 100 MB.
 #include "capsflow/core/study/cost_model.hpp"
 #include "capsflow/core/study/study_plan.hpp"
 
