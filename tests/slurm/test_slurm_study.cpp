@@ -1,7 +1,8 @@
 // `capsflow study --scheduler slurm` against a real one-node Slurm (local_cluster.sh, started by
 // the slurm_cluster ctest fixture): a small study submitted, waited for and compared with the
 // same study run locally; a second call that skips what finished and resubmits a variant whose
-// job failed; a variant stopped by SIGTERM before its time limit, resubmitted with more time,
+// job failed; a variant whose solve failed (exit 3) marked failed and never submitted again; a
+// variant stopped by SIGTERM before its time limit, resubmitted with more time,
 // continuing from its checkpoint; a queued job neither submitted twice, nor run locally, nor
 // overwritten; errors of the submission. Job states come from squeue/scontrol and the study's own
 // files (the cluster has no accounting daemon).
@@ -249,6 +250,42 @@ TEST_F(SlurmStudy, AVariantStoppedBeforeItsTimeLimitContinuesFromItsCheckpointWi
   EXPECT_EQ(on_grid, 21u);
   EXPECT_EQ(on_grid + at_stop, rows.size());
   EXPECT_EQ(json_of(out / "study.json")["variants"][0]["state"], "finished");
+}
+
+// A variant whose solve fails (λ = 5 with GMRES capped at 3 iterations: solver_failure near
+// γ̇t = 0.3, tests/app/test_health.cpp) exits 3 with its summary inside its Slurm job. The
+// analysis job marks it failed, and the next call neither submits it again nor anything else: the
+// same scene would fail the same way. Its sibling with GMRES uncapped finishes.
+TEST_F(SlurmStudy, AVariantStoppedByASolverFailureIsMarkedFailedAndNeverSubmittedAgain) {
+  TempDir d;
+  const fs::path out = d.path / "s";
+  const std::string study = "study " + std::string(CAPSFLOW_SOURCE_DIR) +
+                            "/scenes/sphere_shear_lambda5.toml --levels 2 --vary fluid.max_gmres=3,100 "
+                            "--set time.t_end=3 --threads 1 --scheduler slurm -o " + out.string();
+  const Result first = capsflow(study, d.path);
+  ASSERT_EQ(first.code, 0) << first.out;
+  EXPECT_NE(first.out.find("submitted 2 variants to Slurm"), std::string::npos) << first.out;
+  ASSERT_TRUE(wait_for_jobs(out)) << "the jobs did not leave the queue in time";
+  const fs::path capped = out / "max_gmres=3_L2", uncapped = out / "max_gmres=100_L2";
+  const nlohmann::json failed = json_of(capped / "summary.json");
+  EXPECT_EQ(failed["stop_reason"].get<std::string>().rfind("solver_failure: viscosity-ratio GMRES", 0), 0u) << failed["stop_reason"];
+  EXPECT_TRUE(fs::exists(capped / "checkpoint.h5"));  // the last healthy state, kept
+  EXPECT_EQ(json_of(uncapped / "summary.json")["stop_reason"], "t_end");
+  const nlohmann::json sj = json_of(out / "study.json");  // written by the analysis job
+  for (const auto& v : sj["variants"])
+    EXPECT_EQ(v["state"], v["name"] == "max_gmres=3_L2" ? "failed" : "finished") << v.dump();
+
+  const std::string failed_text = slurp(capped / "summary.json");
+  const nlohmann::json jobs_before = json_of(out / "slurm" / "jobs.json");
+  const Result second = capsflow(study, d.path);
+  EXPECT_EQ(second.code, 3) << second.out;  // as a local study's: a variant stopped numerically
+  EXPECT_NE(second.out.find("max_gmres=3_L2: stopped earlier with solver_failure"), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("not submitted again"), std::string::npos) << second.out;
+  EXPECT_EQ(second.out.find("submitted 1 variant"), std::string::npos) << second.out;
+  EXPECT_EQ(json_of(out / "slurm" / "jobs.json")["submissions"].size(), jobs_before["submissions"].size())
+      << "a job was submitted";
+  EXPECT_EQ(json_of(out / "slurm" / "jobs.json")["variants"]["max_gmres=3_L2"]["submissions"], 1);
+  EXPECT_EQ(slurp(capped / "summary.json"), failed_text);  // never run again
 }
 
 TEST_F(SlurmStudy, RefusalsAreOneLineAndSubmitNothing) {
