@@ -136,7 +136,7 @@ const std::vector<std::array<double, 3>>& flat_errors() {
 
 }  // namespace
 
-// Errors at level 4 (5 120 elements) and orders between levels 3, 4, 5 (perf/RESULTS.md §3.2):
+// Errors at level 4 (5 120 elements) and orders between levels 3, 4, 5 (docs/boundary-integral.md §4.7.4):
 // second order for every non-rigid field on both geometries. The floors below are the measured
 // worst cases with a margin: level-4 error 2.5e-3 (flat) and 9.0e-4 (curved), orders ≥ 1.92
 // (floor 1.85).
