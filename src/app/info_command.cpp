@@ -48,6 +48,8 @@ int info_command(const InfoOptions& opt) {
   fmt::print("\n# run\n");
   const nlohmann::json& r = info["run"];
   fmt::print("back end        {} ({})\n", r["backend"].get<std::string>(), r["backend_reason"].get<std::string>());
+  fmt::print("far field       accurate to {:g} of max |v| (fluid.tolerance {})\n", num(r["far_field_tolerance"]["value"]),
+             r["far_field_tolerance"]["reason"].get<std::string>());
   if (const std::string note = r["fmm_order_warning"]; !note.empty()) fmt::print("warning         {}\n", note);
   if (r.contains("viscosity_ratio")) {
     const nlohmann::json& vr = r["viscosity_ratio"];

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include <fmt/core.h>
+
 #include "capsflow/core/bie/quadrature.hpp"
 #include "capsflow/core/bie/stresslet_pair.hpp"
 #include "capsflow/fmm/direct_sum.hpp"
@@ -74,10 +76,14 @@ FarField<Kernel>::FarField(const NearFieldLists& lists, Eigen::Index n_elements,
   const FarFieldKernel kernel = kStokeslet<Kernel> ? FarFieldKernel::SingleLayer : FarFieldKernel::DoubleLayer;
   backend_ = choose_backend(opt.backend, kernel, sources(), n_targets, opt.tolerance, &reason_);
   if (backend_ != FarFieldBackend::Fmm) return;
+  if (opt.fmm_tolerance > 0 && opt.fmm_tolerance != opt.tolerance) {
+    tolerance_ = opt.fmm_tolerance;
+    reason_ += fmt::format("; the FMM at tolerance {:g}", tolerance_);
+  }
   // The FMM calibration is in relative L2 error over the targets; capsflow promises the tolerance
   // relative to max |v| at every node (max norm), so the Stokeslet's FMM is asked for a safety
   // margin; the stresslet's order follows from the error relative to the density (backend_choice.hpp).
-  add_fmm(kStokeslet<Kernel> ? kFmmToleranceMargin * opt.tolerance : double_layer_fmm_tolerance(opt.tolerance));
+  add_fmm(kStokeslet<Kernel> ? kFmmToleranceMargin * tolerance_ : double_layer_fmm_tolerance(tolerance_));
   if constexpr (!kStokeslet<Kernel>)
     set_up_directly_ = double_layer_set_up_direct(opt.backend, backend_, sources(), n_targets, opt.tolerance, &reason_);
 }

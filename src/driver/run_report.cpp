@@ -98,6 +98,7 @@ nlohmann::json Simulation::Impl::summary() const {
       {"wall_seconds", wall_seconds()}, {"elements", ref.num_elements()}, {"nodes", ref.num_nodes()},
       {"backend", to_string(dyn->single_layer().backend())}, {"backend_reason", dyn->single_layer().backend_reason()},
       {"fmm_order", dyn->single_layer().fmm_order()}, {"fmm_leaf_size", dyn->single_layer().fmm_leaf_size()},
+      {"far_field_tolerance", dyn->single_layer().far_field_tolerance()},
       {"threads", threads},
       {"steady_measure", steady->measure()}, {"scene", to_json(scene)},
       {"version", version_string()}, {"git", git_hash()},

@@ -15,6 +15,7 @@
 #include "capsflow/core/io/version.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
+#include "capsflow/core/scene/boundary_integral_options.hpp"
 #include "simulation_impl.hpp"
 
 namespace capsflow {
@@ -77,9 +78,9 @@ void Simulation::Impl::make_parts() {
   health = std::make_unique<HealthMonitor>(scene, ref);
   instability = InstabilityWatch(scene.fluid.volume_correction ? InstabilityWatch::Volume::Corrected
                                                                : InstabilityWatch::Volume::Uncorrected);
-  far_check = std::make_unique<FarFieldWatch>(scene.fluid.verify_every, scene.fluid.tolerance);
+  far_check = std::make_unique<FarFieldWatch>(scene.fluid.verify_every, dyn->single_layer().far_field_tolerance());
   dl_far_check = std::make_unique<FarFieldWatch>(dyn->viscosity_ratio_solver() ? scene.fluid.verify_every : 0,
-                                                 scene.fluid.tolerance, "double_layer_far_field_check",
+                                                 far_field_tolerance(scene).tolerance, "double_layer_far_field_check",
                                                  "double-layer far-field check", "the largest directly summed value");
   plane = flow_plane(scene.flow.gradient);
   tank_treading = std::make_unique<TankTreadingMeter>(plane);

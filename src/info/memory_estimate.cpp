@@ -4,6 +4,8 @@
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
 #include "capsflow/core/scene/scene.hpp"
+#include "capsflow/fmm/calibration.hpp"
+#include "capsflow/fmm/stokeslet.hpp"
 
 namespace capsflow {
 
@@ -17,10 +19,17 @@ struct Linear {
 };
 // Direct single layer: 37 and 93 MB at 5 120 and 20 480 elements (23 MB at 1 280: within 1 MB).
 constexpr Linear kSingleLayerDirect{18, 3.6e-3};
-// FMM single layer: 4.95 kB per element between 81 920 and 327 680 elements (772 and 1 986 MB);
-// the fixed part from the 0.88 GB of a long run at 81 920 (Fig. 4 to γ̇t = 5, §1.6), which holds
-// 110 MB more than the short run. 6.96 GB at 1 310 720 elements, where a run measured 6.8 GB.
-constexpr Linear kSingleLayerFmm{475, 4.95e-3};
+// FMM single layer, by the order its tolerance calls for (the operators and the per-box surface
+// vectors grow with p²). p ≤ 8 (the default "auto", 1e-5): 4.37 kB per element between 81 920 and
+// 327 680 elements (575 and 1 649 MB); the fixed part from the 653 MB of a long run at 81 920 (Fig. 4
+// to γ̇t = 5, §1.1), 78 MB more than the short run; 6.02 GB at 1 310 720 elements, where a run
+// measured 5.83 GB.
+constexpr Linear kSingleLayerFmmUpToP8{295, 4.37e-3};
+// p ≥ 9 (fluid.tolerance 1e-6): 4.95 kB per element between 81 920 and 327 680 elements (772 and
+// 1 986 MB); the fixed part from the 0.88 GB of a long run at 81 920, 110 MB more than the short
+// run; 6.96 GB at 1 310 720 elements, where a run measured 6.75 GB. Orders above 9 were not measured.
+constexpr Linear kSingleLayerFmmFromP9{475, 4.95e-3};
+constexpr int kLargestOrderOfTheSmallerFit = 8;
 // The double layer with the direct far field adds 2.1 kB per element (43 MB at 20 480, 11 MB at 5 120).
 constexpr Linear kDoubleLayerDirect{0, 2.1e-3};
 // With the stresslet FMMs: 9.0 kB per element between 81 920 and 327 680 elements (1 997 and
@@ -35,7 +44,14 @@ MemoryEstimate estimate_peak_memory(const Scene& scene, const MeshCounts& counts
   m.single_layer_backend = choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer,
                                           far_field_source_count(sl, counts.elements, counts.edges), counts.nodes,
                                           scene.fluid.tolerance, nullptr);
-  m.single_layer_mb = (m.single_layer_backend == FarFieldBackend::Fmm ? kSingleLayerFmm : kSingleLayerDirect).at(counts.elements);
+  if (m.single_layer_backend == FarFieldBackend::Fmm) {
+    const int order = sl.fmm_order > 0 ? sl.fmm_order
+                                       : fmm::order_for_tolerance<fmm::Stokeslet>(kFmmToleranceMargin * sl.fmm_tolerance);
+    m.single_layer_mb =
+        (order <= kLargestOrderOfTheSmallerFit ? kSingleLayerFmmUpToP8 : kSingleLayerFmmFromP9).at(counts.elements);
+  } else {
+    m.single_layer_mb = kSingleLayerDirect.at(counts.elements);
+  }
   if (scene.fluid.viscosity_ratio != 1.0) {
     const DoubleLayerOptions dl = double_layer_options(scene);
     m.double_layer_backend = choose_backend(scene.fluid.backend, FarFieldKernel::DoubleLayer,

@@ -69,6 +69,9 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
       choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer, sources, mesh.num_nodes(), scene.fluid.tolerance, &why);
   run["backend"] = to_string(b);
   run["backend_reason"] = why;
+  const FarFieldTolerance tol = far_field_tolerance(scene);
+  run["far_field_tolerance"] = {{"value", b == FarFieldBackend::Fmm ? tol.fmm_tolerance : tol.tolerance},
+                                {"direct", tol.tolerance}, {"fmm", tol.fmm_tolerance}, {"reason", tol.reason}};
   run["fmm_order_warning"] = unused_fmm_order_note(scene, b);
   if (scene.fluid.viscosity_ratio != 1.0) {
     // The second-kind solve (docs/boundary-integral.md §4.8); its near-field lists depend on the geometry only.

@@ -91,7 +91,7 @@ t_end = 2.0
 
 [fluid]
 backend = "auto"
-tolerance = 1e-6
+tolerance = "auto"
 
 [output]
 every = 0.1

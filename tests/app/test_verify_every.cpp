@@ -51,6 +51,31 @@ const std::string kRun = "run --set mesh.level=3 --set fluid.backend=fmm --set f
 
 }  // namespace
 
+// fluid.tolerance = "auto" on the FMM back end (docs/boundary-integral.md §4.3.2): the run promises
+// 1e-5, at the order 1e-5 calls for, and the direct check holds it to that promise; with a fixed
+// step (no error control) the same run keeps 1e-6.
+TEST(VerifyEvery, TheAutoToleranceIsTheFmmsPromiseInTheRunAndItsChecks) {
+  TempDir d;
+  const std::string run = "run --set mesh.level=3 --set fluid.backend=fmm --set time.t_end=0.02 --set output.every=0.01 "
+                          "--set fluid.fmm_leaf_size=100 --set fluid.verify_every=1 --threads 2";
+  const Result a = capsflow(run + " -o " + (d.path / "auto").string(), d.path);
+  ASSERT_EQ(a.code, 0) << a.out;
+  const nlohmann::json s = summary_of(d.path / "auto");
+  EXPECT_EQ(s["far_field_tolerance"].get<double>(), 1e-5);
+  EXPECT_EQ(s["fmm_order"], 8);  // as kRun's explicit 1e-5
+  EXPECT_EQ(s["far_field_check"]["tolerance"].get<double>(), 1e-5);
+  EXPECT_LT(s["far_field_check"]["worst_max_relative"].get<double>(), 1e-5);  // the promise holds
+  EXPECT_EQ(s["far_field_check"]["above_tolerance"], 0);
+  EXPECT_NE(s["backend_reason"].get<std::string>().find("the FMM at tolerance 1e-05"), std::string::npos);
+
+  const Result f = capsflow(run + " --set time.dt=0.002 -o " + (d.path / "fixed").string(), d.path);
+  ASSERT_EQ(f.code, 0) << f.out;
+  const nlohmann::json g = summary_of(d.path / "fixed");
+  EXPECT_EQ(g["far_field_tolerance"].get<double>(), 1e-6);
+  EXPECT_EQ(g["fmm_order"], 9);  // 0.25 × 1e-6 (fmm/calibration.hpp)
+  EXPECT_LT(g["far_field_check"]["worst_max_relative"].get<double>(), 1e-6);
+}
+
 TEST(VerifyEvery, TheCalibratedOrderPassesAndATooLowOrderFailsWithAWarning) {
   TempDir d;
   const Result good = capsflow(kRun + " --set fluid.verify_every=1 -o " + (d.path / "good").string(), d.path);

@@ -12,7 +12,9 @@
 #include "capsflow/core/mesh/generation.hpp"
 #include "capsflow/core/bie/off_surface.hpp"
 #include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/fmm/calibration.hpp"
 #include "capsflow/fmm/direct_sum_mixed.hpp"
+#include "capsflow/fmm/stokeslet.hpp"
 #include "support/gauss_kronrod.hpp"
 
 using namespace capsflow;
@@ -356,4 +358,44 @@ TEST(SingleLayerBackends, FmmAgreesWithDirectOnDeformedSurface) {
   M.apply(m.vertices, q, um);
   const double rel = max_row_norm(um - ud) / max_row_norm(ud);
   EXPECT_LT(rel, 1e-5);
+}
+
+// fmm_tolerance (fluid.tolerance = "auto"): the FMM back end promises it instead of `tolerance`, at
+// the order it calls for; the direct back end ignores it (same sums, bit for bit).
+TEST(SingleLayerBackends, TheFmmToleranceLoosensOnlyTheFmm) {
+  SurfaceMesh m = make_sphere_mesh(BaseSolid::Icosahedron, 4);
+  for (Eigen::Index i = 0; i < m.num_nodes(); ++i) {
+    const Vec3 x = m.vertices.row(i);
+    m.vertices.row(i) = Vec3(1.3 * x[0] + 0.1 * x[1] * x[2], 0.9 * x[1], 0.8 * x[2] + 0.1 * std::sin(2 * x[0])).transpose();
+  }
+  Points q(m.num_nodes(), 3);
+  for (Eigen::Index i = 0; i < m.num_nodes(); ++i) {
+    const Vec3 x = m.vertices.row(i);
+    q.row(i) << std::cos(2 * x[1]) + x[0], x[2] * x[0], std::exp(0.2 * x[0]) - x[2];
+  }
+  SingleLayerOptions od, tight, loose;
+  od.backend = BackendRequest::Direct;
+  tight.backend = loose.backend = BackendRequest::Fmm;
+  tight.fmm_leaf_size = loose.fmm_leaf_size = 64;  // a tree deep enough that the far field is approximated
+  loose.fmm_tolerance = 1e-5;
+  SingleLayer D(m.triangles, m.num_nodes(), od), T(m.triangles, m.num_nodes(), tight), L(m.triangles, m.num_nodes(), loose);
+  EXPECT_EQ(T.far_field_tolerance(), 1e-6);
+  EXPECT_EQ(L.far_field_tolerance(), 1e-5);
+  EXPECT_EQ(L.fmm_order(), fmm::order_for_tolerance<fmm::Stokeslet>(kFmmToleranceMargin * 1e-5));
+  EXPECT_LT(L.fmm_order(), T.fmm_order());  // the loosening takes effect (p 8 against 9)
+  EXPECT_NE(L.backend_reason().find("the FMM at tolerance 1e-05"), std::string::npos) << L.backend_reason();
+  Points ud, ut, ul;
+  D.apply(m.vertices, q, ud);
+  T.apply(m.vertices, q, ut);
+  L.apply(m.vertices, q, ul);
+  EXPECT_LT(max_row_norm(ul - ud) / max_row_norm(ud), 1e-5);  // the promise, relative to max |v|
+  EXPECT_LT(max_row_norm(ut - ud) / max_row_norm(ud), 1e-6);
+  // The direct back end: fmm_tolerance is not its promise, and changes nothing.
+  SingleLayerOptions od2 = od;
+  od2.fmm_tolerance = 1e-5;
+  SingleLayer D2(m.triangles, m.num_nodes(), od2);
+  EXPECT_EQ(D2.far_field_tolerance(), 1e-6);
+  Points ud2;
+  D2.apply(m.vertices, q, ud2);
+  EXPECT_EQ(max_row_norm(ud2 - ud), 0.0);  // bit for bit
 }

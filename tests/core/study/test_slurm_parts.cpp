@@ -63,10 +63,13 @@ TEST(SlurmSizing, TimeMemoryAndThreadsFollowTheCostModelWithTheStatedMargins) {
   EXPECT_EQ(l5.minutes, 240);
   EXPECT_EQ(l5.threads, 8);
   EXPECT_EQ(l5.memory_mb, 400);  // (3.6 kB × 20 480 + 18 MB) × 2 + 200 MB = 383 MB, rounded up
-  // With the FMM its fixed part counts: (4.95 kB × 1280 + 475 MB) × 2 + 200 MB = 1163 MB → 1200 MB.
+  // With the FMM its fixed part counts, at p = 8 (fluid.tolerance "auto"): (4.37 kB × 1280 + 295 MB) × 2
+  // + 200 MB = 801 MB → 900 MB; at p = 9 (1e-6): (4.95 kB × 1280 + 475 MB) × 2 + 200 MB = 1163 MB → 1200 MB.
   const StudyPlan fmm = make_study_plan("", {"fluid.backend=fmm"}, {3}, {});
-  EXPECT_EQ(size_job(fmm.variants[0], cost, 0, 0).memory_mb, 1200);
-  // And at λ ≠ 1 the double layer's: + (9.0 kB × 1280 + 2000 MB) × 2 = 5186 MB → 5200 MB.
+  EXPECT_EQ(size_job(fmm.variants[0], cost, 0, 0).memory_mb, 900);
+  const StudyPlan fmm9 = make_study_plan("", {"fluid.backend=fmm", "fluid.tolerance=1e-6"}, {3}, {});
+  EXPECT_EQ(size_job(fmm9.variants[0], cost, 0, 0).memory_mb, 1200);
+  // And at λ ≠ 1 (the single layer at p = 9) the double layer's: + (9.0 kB × 1280 + 2000 MB) × 2 = 5186 MB → 5200 MB.
   const StudyPlan lambda = make_study_plan("", {"fluid.backend=fmm", "fluid.viscosity_ratio=5"}, {3}, {});
   EXPECT_EQ(size_job(lambda.variants[0], cost, 0, 0).memory_mb, 5200);
   // A variant that ran out of time gets at least twice its last limit; --threads wins.

@@ -103,8 +103,10 @@ class FarField {
   const double* targets() const { return targets_.data(); }
   Eigen::Index n_targets() const { return static_cast<Eigen::Index>(targets_.size() / 3); }
 
-  // The back end.
+  // The back end, and the accuracy it promises relative to max |v| (the options' fmm_tolerance
+  // where it sums by the FMM and one is given, else their tolerance).
   FarFieldBackend backend() const { return backend_; }
+  double tolerance() const { return tolerance_; }
   const std::string& reason() const { return reason_; }
   // The stresslet's only: whether the double layer's set-up pass (four densities) sums directly
   // although the iterations use the FMM (double_layer_set_up_direct, backend_choice.hpp).

@@ -9,8 +9,11 @@ namespace capsflow {
 
 struct LayerOptions {
   BackendRequest backend = BackendRequest::Auto;
-  double tolerance = 1e-6;       // far-field relative accuracy: the FMM order; the single layer's direct
-                                 // sums use single-precision pairs (~5e-7) from 1e-5 on, double below
+  double tolerance = 1e-6;       // far-field relative accuracy: the FMM order and the back-end crossover;
+                                 // the single layer's direct sums use single-precision pairs (~5e-7) from
+                                 // 1e-5 on, double below
+  double fmm_tolerance = 0;      // > 0: the FMM back end's accuracy instead of `tolerance` (the crossover
+                                 // and the direct sums keep `tolerance`); fluid.tolerance = "auto" sets it
   SurfaceGeometry geometry = SurfaceGeometry::Flat;  // flat facets or their quadratic lift
   FarFieldRule far_rule = FarFieldRule::Auto;  // Auto: edge midpoints on flat facets, Gauss points on curved
   int fmm_order = 0;             // > 0 forces the FMM order instead of the one the tolerance calls for

@@ -64,6 +64,7 @@ class SingleLayer {
   Eigen::Index far_field_sources() const { return far_.sources(); }
   const NearFieldLists& near_field_lists() const { return lists_; }
   const std::string& backend_reason() const { return far_.reason(); }
+  double far_field_tolerance() const { return far_.tolerance(); }  // the back end's promise (far_field.hpp)
   int fmm_order() const { return far_.fmm_order(); }
   int fmm_leaf_size() const { return far_.fmm_leaf_size(); }  // points per leaf of the FMM's tree; 0 with the direct far field
   // Seconds in the phases BieSources, BieFar and BieNear, summed over apply() calls.

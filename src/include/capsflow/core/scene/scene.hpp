@@ -77,7 +77,9 @@ struct FluidSpec {
   int max_gmres;                 // λ ≠ 1: iteration cap of the second-kind GMRES solve
   bool reuse_identity_term;      // λ ≠ 1: reuse D̃[1]'s quadrature error between refreshes (§4.7.5)
   BackendRequest backend;
-  double tolerance;              // far-field relative accuracy (FMM order; direct: single-precision pairs from 1e-5)
+  double tolerance;              // far-field relative accuracy (FMM order; direct: single-precision pairs from 1e-5);
+                                 // under "auto" 1e-6, and the FMM's follows the time step (far_field_tolerance())
+  bool tolerance_auto = true;
   SurfaceGeometry geometry;      // surface seen by the boundary integral (bie/single_layer.hpp)
   FarFieldRule far_rule;         // far-field sources: auto (by geometry), edge midpoints or 3 Gauss points per element
   bool volume_correction;        // remove the mean normal velocity (discrete flux error) each stage
