@@ -168,6 +168,10 @@ def test_info_is_what_the_command_line_prints(capsflow_exe):
     assert cli["Le (inertia)"].split() == [f"{v:.4f}" for v in m["Le"]]
     assert cli["valence"].split() == [f"{v}:{n}" for v, n in m["valence"].items()]
     assert cli["back end"] == f"{r['backend']} ({r['backend_reason']})"
+    # fluid.tolerance "auto": the direct sum at this size, so its 1e-6 (docs/boundary-integral.md §4.3.2)
+    ft = r["far_field_tolerance"]
+    assert ft["value"] == 1e-6 and ft["direct"] == 1e-6 and ft["fmm"] == 1e-5
+    assert cli["far field"] == f"accurate to {ft['value']:g} of max |v| (fluid.tolerance {ft['reason']})"
     assert cli["stable dt"].startswith(f"{r['stable_dt']['limit']:.3e} at t = 0")
     # auto: ROCK4, the analytic spectral radius (205 on this wall at 320 elements) being below 800
     assert cli["time scheme"].startswith(r["scheme"]) and r["scheme"] == "rock4"
