@@ -8,7 +8,36 @@
 #include <cstdlib>
 #include <utility>
 
+#include "capsflow/fmm/key_sort.hpp"
+
 namespace capsflow::fmm {
+
+void sort_by_key(std::vector<KeyIndex>& kp, std::vector<KeyIndex>& scratch) {
+  constexpr int kDigitBits = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kDigitBits;
+  std::uint64_t any = 0, all = ~std::uint64_t{0};
+  for (const KeyIndex& e : kp) {
+    any |= e.first;
+    all &= e.first;
+  }
+  const std::uint64_t varying = any ^ all;  // the bits in which some keys differ
+  scratch.resize(kp.size());
+  std::vector<std::size_t> start(kBuckets);
+  for (int shift = 0; shift < 64; shift += kDigitBits) {
+    if (((varying >> shift) & (kBuckets - 1)) == 0) continue;  // one digit for every key: order kept
+    std::fill(start.begin(), start.end(), 0);
+    for (const KeyIndex& e : kp) ++start[(e.first >> shift) & (kBuckets - 1)];
+    std::size_t at = 0;
+    for (std::size_t& b : start) {
+      const std::size_t n = b;
+      b = at;
+      at += n;
+    }
+    for (const KeyIndex& e : kp) scratch[start[(e.first >> shift) & (kBuckets - 1)]++] = e;
+    kp.swap(scratch);
+  }
+}
+
 namespace {
 constexpr int kBits = 21;  // bits per axis in a Morton key
 
@@ -26,15 +55,13 @@ std::uint64_t morton(std::uint64_t x, std::uint64_t y, std::uint64_t z) {
   return spread3(x) | (spread3(y) << 1) | (spread3(z) << 2);
 }
 
-struct Sorted {
-  std::vector<std::uint64_t> key;
-};
-
+// kp and scratch are the caller's buffers, kept across set-ups: allocating megabytes afresh at every
+// set-up costs page faults that, on a virtual machine, were a tenth of the set-up.
 void sort_points(const double* p, std::size_t n, const double origin[3], double scale,
                  std::vector<std::uint64_t>& keys, std::vector<std::size_t>& perm,
                  std::vector<double>& x, std::vector<double>& y, std::vector<double>& z,
-                 int threads) {
-  std::vector<std::pair<std::uint64_t, std::size_t>> kp(n);
+                 std::vector<KeyIndex>& kp, std::vector<KeyIndex>& scratch, int threads) {
+  kp.resize(n);
   const double cells = static_cast<double>(1u << kBits);
   const std::uint64_t maxc = (1u << kBits) - 1;
 #pragma omp parallel for num_threads(threads) schedule(static)
@@ -47,7 +74,7 @@ void sort_points(const double* p, std::size_t n, const double origin[3], double 
     }
     kp[i] = {morton(c[0], c[1], c[2]), static_cast<std::size_t>(i)};
   }
-  std::sort(kp.begin(), kp.end());
+  sort_by_key(kp, scratch);  // = std::sort(kp): the indices are distinct and ascending
   keys.resize(n); perm.resize(n); x.resize(n); y.resize(n); z.resize(n);
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (long i = 0; i < static_cast<long>(n); ++i) {
@@ -114,9 +141,10 @@ void Tree::build(const double* src, std::size_t n_src, const double* trg, std::s
   for (int d = 0; d < 3; ++d) origin[d] = lo[d] - 0.5 * (length - (hi[d] - lo[d]));
   const double scale = 1.0 / length;
 
-  std::vector<std::uint64_t> skey, tkey;
-  sort_points(src, n_src, origin, scale, skey, src_perm, sx, sy, sz, threads);
-  sort_points(trg, n_trg, origin, scale, tkey, trg_perm, tx, ty, tz, threads);
+  std::vector<std::uint64_t>& skey = src_key_;
+  std::vector<std::uint64_t>& tkey = trg_key_;
+  sort_points(src, n_src, origin, scale, skey, src_perm, sx, sy, sz, sort_buffer_, sort_scratch_, threads);
+  sort_points(trg, n_trg, origin, scale, tkey, trg_perm, tx, ty, tz, sort_buffer_, sort_scratch_, threads);
 
   nodes.clear();
   leaves.clear();

@@ -4,11 +4,15 @@
 // FMM's approximation accuracy.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <tuple>
+#include <vector>
 
 #include "capsflow/fmm/fmm.hpp"
+#include "capsflow/fmm/key_sort.hpp"
 #include "points.hpp"
 
 using namespace capsflow::fmm;
@@ -163,4 +167,27 @@ TEST(CountingLists, AdaptiveTreeExercisesWAndXLists) {
   double worst = 0;
   for (std::size_t i = 0; i < 1500; ++i) worst = std::max(worst, std::abs(u[i] - expect[i]));
   EXPECT_LT(worst, 1e-6);  // same reason as above
+}
+
+// The tree's radix sort (key_sort.hpp) gives std::sort's order of (key, index) pairs whose indices
+// are distinct and ascending: keys that share high bits, that differ in every bit, and repeated keys.
+TEST(KeySort, EqualsTheComparisonSortOfKeyIndexPairs) {
+  std::uint64_t state = 0x9e3779b97f4a7c15ULL;
+  auto next = [&] {  // xorshift64*
+    state ^= state >> 12;
+    state ^= state << 25;
+    state ^= state >> 27;
+    return state * 0x2545f4914f6cdd1dULL;
+  };
+  for (const std::uint64_t mask : {~std::uint64_t{0}, std::uint64_t{0x7fff}, std::uint64_t{0x3}}) {
+    for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{1000}, std::size_t{50000}}) {
+      const std::uint64_t high = next() & ~mask;  // bits every key shares
+      std::vector<KeyIndex> kp(n), scratch;
+      for (std::size_t i = 0; i < n; ++i) kp[i] = {high | (next() & mask), i};
+      std::vector<KeyIndex> expected = kp;
+      std::sort(expected.begin(), expected.end());
+      sort_by_key(kp, scratch);
+      EXPECT_TRUE(kp == expected) << "mask " << mask << ", n " << n;
+    }
+  }
 }

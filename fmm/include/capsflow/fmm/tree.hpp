@@ -17,6 +17,7 @@
 //     X(B), B with targets: leaves A with sources such that B ∈ W(A)             -> P2L or P2P
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace capsflow::fmm {
@@ -75,6 +76,9 @@ class Tree {
 
  private:
   void build_lists(int threads);
+  // Buffers of the sort, kept across builds (tree.cpp's sort_points).
+  std::vector<std::uint64_t> src_key_, trg_key_;
+  std::vector<std::pair<std::uint64_t, std::size_t>> sort_buffer_, sort_scratch_;
 };
 
 /// Index of a V-list offset (dx,dy,dz) ∈ [-3,3]^3 with max |d| ≥ 2 (316 values), or -1.
