@@ -147,7 +147,7 @@ void Simulation::Impl::write_due_outputs(double t_step_start) {
     ++st.next_output;
   }
   if (checkpoint_due()) {
-    // The index first: the checkpoint must name the next checkpoint time, not its own — RKC's steps
+    // The index first: the checkpoint must name the next checkpoint time, not its own — error-controlled steps
     // stop at checkpoint times, and a restart from one naming itself would have no time left to step.
     advance_checkpoint_index();
     write_checkpoint(folder / io::kCheckpointFile);

@@ -36,7 +36,7 @@ void Simulation::Impl::report_progress(bool force) {
   const long evals = dyn->counters().evaluations;
   const double per_eval = evals ? seg / static_cast<double>(evals) : 0;
   const double t_end = scene.time.t_end;
-  // ETA from the simulated time per wall second of this segment (RKC's step varies).
+  // ETA from the simulated time per wall second of this segment (an error-controlled step varies).
   const double done = st.t - t_segment_start;
   const double eta = done > 0 ? seg * (t_end - st.t) / done : NAN;
   const double drift = enclosed_volume(SurfaceMesh{st.x, ref.triangles}) / st.volume0 - 1;
