@@ -8,8 +8,6 @@
 #include <cstdlib>
 #include <utility>
 
-#include "capsflow/fmm/key_sort.hpp"
-
 namespace capsflow::fmm {
 
 void sort_by_key(std::vector<KeyIndex>& kp, std::vector<KeyIndex>& scratch) {

@@ -76,10 +76,8 @@ FarField<Kernel>::FarField(const NearFieldLists& lists, Eigen::Index n_elements,
   const FarFieldKernel kernel = kStokeslet<Kernel> ? FarFieldKernel::SingleLayer : FarFieldKernel::DoubleLayer;
   backend_ = choose_backend(opt.backend, kernel, sources(), n_targets, opt.tolerance, &reason_);
   if (backend_ != FarFieldBackend::Fmm) return;
-  if (opt.fmm_tolerance > 0 && opt.fmm_tolerance != opt.tolerance) {
-    tolerance_ = opt.fmm_tolerance;
-    reason_ += fmt::format("; the FMM at tolerance {:g}", tolerance_);
-  }
+  tolerance_ = fmm_promise(opt);
+  if (tolerance_ != opt.tolerance) reason_ += fmt::format("; the FMM at tolerance {:g}", tolerance_);
   // The FMM calibration is in relative L2 error over the targets; capsflow promises the tolerance
   // relative to max |v| at every node (max norm), so the Stokeslet's FMM is asked for a safety
   // margin; the stresslet's order follows from the error relative to the density (backend_choice.hpp).

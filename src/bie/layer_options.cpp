@@ -4,7 +4,16 @@
 
 #include <algorithm>
 
+#include "capsflow/fmm/calibration.hpp"
+#include "capsflow/fmm/stokeslet.hpp"
+
 namespace capsflow {
+
+double fmm_promise(const LayerOptions& o) { return o.fmm_tolerance > 0 ? o.fmm_tolerance : o.tolerance; }
+
+int single_layer_fmm_order(const LayerOptions& o) {
+  return o.fmm_order > 0 ? o.fmm_order : fmm::order_for_tolerance<fmm::Stokeslet>(kFmmToleranceMargin * fmm_promise(o));
+}
 
 int layer_threads(const LayerOptions& o) { return o.threads > 0 ? o.threads : omp_get_max_threads(); }
 

@@ -4,8 +4,6 @@
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
 #include "capsflow/core/scene/scene.hpp"
-#include "capsflow/fmm/calibration.hpp"
-#include "capsflow/fmm/stokeslet.hpp"
 
 namespace capsflow {
 
@@ -45,10 +43,8 @@ MemoryEstimate estimate_peak_memory(const Scene& scene, const MeshCounts& counts
                                           far_field_source_count(sl, counts.elements, counts.edges), counts.nodes,
                                           scene.fluid.tolerance, nullptr);
   if (m.single_layer_backend == FarFieldBackend::Fmm) {
-    const int order = sl.fmm_order > 0 ? sl.fmm_order
-                                       : fmm::order_for_tolerance<fmm::Stokeslet>(kFmmToleranceMargin * sl.fmm_tolerance);
-    m.single_layer_mb =
-        (order <= kLargestOrderOfTheSmallerFit ? kSingleLayerFmmUpToP8 : kSingleLayerFmmFromP9).at(counts.elements);
+    const bool smaller = single_layer_fmm_order(sl) <= kLargestOrderOfTheSmallerFit;
+    m.single_layer_mb = (smaller ? kSingleLayerFmmUpToP8 : kSingleLayerFmmFromP9).at(counts.elements);
   } else {
     m.single_layer_mb = kSingleLayerDirect.at(counts.elements);
   }

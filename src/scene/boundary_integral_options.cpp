@@ -20,9 +20,8 @@ constexpr double kAutoFmmTolerance = 1e-5;
 // The smallest tolerance a scene accepts (the direct sums are accurate to ~1e-9).
 constexpr double kSmallestTolerance = 1e-8;
 
-// What both layers read of fluid.*.
-void set_layer_options(const Scene& s, int threads, LayerOptions& o) {
-  const FarFieldTolerance t = far_field_tolerance(s);
+// What both layers read of fluid.*, with fluid.tolerance resolved (t).
+void set_layer_options(const Scene& s, const FarFieldTolerance& t, int threads, LayerOptions& o) {
   o.backend = s.fluid.backend;
   o.tolerance = t.tolerance;
   o.geometry = s.fluid.geometry;
@@ -59,15 +58,16 @@ FarFieldTolerance far_field_tolerance(const Scene& s) {
 }
 
 SingleLayerOptions boundary_integral_options(const Scene& s, int threads) {
+  const FarFieldTolerance t = far_field_tolerance(s);
   SingleLayerOptions o;
-  set_layer_options(s, threads, o);
-  o.fmm_tolerance = far_field_tolerance(s).fmm_tolerance;
+  set_layer_options(s, t, threads, o);
+  o.fmm_tolerance = t.fmm_tolerance;  // the single layer's FMM only: the rule loosens nothing else
   return o;
 }
 
 DoubleLayerOptions double_layer_options(const Scene& s, int threads) {
   DoubleLayerOptions o;
-  set_layer_options(s, threads, o);
+  set_layer_options(s, far_field_tolerance(s), threads, o);
   o.reuse_identity_term = s.fluid.reuse_identity_term;
   return o;
 }

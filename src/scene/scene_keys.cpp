@@ -262,8 +262,6 @@ const Section<FluidSpec>& fluid_keys() {
   static const Section<FluidSpec> s{
       "fluid", &Scene::fluid,
       {choice("backend", &FluidSpec::backend, bie.backend, "far-field summation (`docs/boundary-integral.md` §4.3)"),
-       // The boundary integral asks the FMM for 0.25 × the tolerance (its floor is 1e-10,
-       // fmm/calibration.hpp), and its direct far field is accurate to ~1e-9 (single_layer.cpp).
        fluid_tolerance("far-field accuracy relative to max‖v‖: sets the FMM order, and from 1e-5 on lets the direct sum "
                        "use single-precision pairs; `\"auto\"`: 1e-6 for direct sums and the back-end crossover, 1e-5 for "
                        "the single layer's FMM where error control sets the step (never looser than a given "

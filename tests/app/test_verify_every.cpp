@@ -73,7 +73,7 @@ TEST(VerifyEvery, TheAutoToleranceIsTheFmmsPromiseInTheRunAndItsChecks) {
   const nlohmann::json g = summary_of(d.path / "fixed");
   EXPECT_EQ(g["far_field_tolerance"].get<double>(), 1e-6);
   EXPECT_EQ(g["fmm_order"], 9);  // 0.25 × 1e-6 (fmm/calibration.hpp)
-  EXPECT_LT(g["far_field_check"]["worst_max_relative"].get<double>(), 1e-6);
+  EXPECT_LT(g["far_field_check"]["worst_max_relative"].get<double>(), 1e-6);  // the 1e-6 promise holds
 }
 
 TEST(VerifyEvery, TheCalibratedOrderPassesAndATooLowOrderFailsWithAWarning) {

@@ -17,8 +17,9 @@
 //     X(B), B with targets: leaves A with sources such that B ∈ W(A)             -> P2L or P2P
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 #include <vector>
+
+#include "capsflow/fmm/key_sort.hpp"
 
 namespace capsflow::fmm {
 
@@ -78,7 +79,7 @@ class Tree {
   void build_lists(int threads);
   // Buffers of the sort, kept across builds (tree.cpp's sort_points).
   std::vector<std::uint64_t> src_key_, trg_key_;
-  std::vector<std::pair<std::uint64_t, std::size_t>> sort_buffer_, sort_scratch_;
+  std::vector<KeyIndex> sort_buffer_, sort_scratch_;
 };
 
 /// Index of a V-list offset (dx,dy,dz) ∈ [-3,3]^3 with max |d| ≥ 2 (316 values), or -1.

@@ -42,6 +42,11 @@ struct LayerOptions {
 
 // The OpenMP threads of every parallel region of an operator: `threads`, or the OpenMP default.
 int layer_threads(const LayerOptions& o);
+// What the FMM back end promises relative to max |v|: fmm_tolerance where given, else tolerance.
+double fmm_promise(const LayerOptions& o);
+// The single layer's FMM order: the forced one, or the one the Stokeslet calibration gives for
+// kFmmToleranceMargin × fmm_promise (what FarField asks its main FMM for).
+int single_layer_fmm_order(const LayerOptions& o);
 // The far-field rule the options resolve to.
 FarFieldRule far_field_rule(const LayerOptions& o);
 // The far field's sources for a surface of `elements` elements and `edges` edges under that rule:
