@@ -232,6 +232,10 @@ void Simulation::Impl::log_set_up() const {
   spdlog::info("boundary integral: {} ({})", to_string(dyn->single_layer().backend()), dyn->single_layer().backend_reason());
   spdlog::info("output: {}{}", folder.string(), opt.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st.t));
   if (restart.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path.string());
+  if (out->run_file_rebuilt())
+    spdlog::warn("run.h5 held a damaged object written after t = {:g} (the earlier run was killed while writing it): "
+                 "run.h5 was rebuilt from the {} outputs up to the restart time",
+                 st.t, out->num_steps());
   if (!opt.restart.empty() && time_reached(st.t, scene.time.t_end, 0.0))
     spdlog::info("the checkpoint is at time.t_end = {:g}: finishing the run (summary.json) without a step", scene.time.t_end);
   if (const std::string note = capillary_note(scene); !note.empty()) spdlog::info("note: {}", note);

@@ -204,6 +204,13 @@ void Location::remove(const std::string& name) {
   if (H5Ldelete(id(), name.c_str(), H5P_DEFAULT) < 0) fail("cannot remove", name);
 }
 
+void Location::copy_to(const std::string& name, Location& dest, const std::string& dest_name) const {
+  const Handle lcpl = intermediate_lcpl();
+  if (H5Ocopy(id(), name.c_str(), dest.id(), dest_name.c_str(), H5P_DEFAULT, lcpl.get()) < 0) {
+    fail("cannot copy", name);
+  }
+}
+
 void Location::write_raw(const std::string& name, hid_t mem_type, const std::vector<hsize_t>& dims,
                          const void* data) {
   if (exists(name)) remove(name);

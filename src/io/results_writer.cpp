@@ -27,6 +27,7 @@ struct ResultsWriter::State {
   std::vector<XdmfStep> steps;       // in time order; mirrors /steps in run.h5
   std::int64_t next_index = 0;       // k of the next /steps/<k>
   std::optional<TimeseriesCsv> csv;  // opened on the first row
+  bool run_file_rebuilt = false;     // reopen: run.h5 held a damaged object and was rebuilt
 
   fs::path h5_path() const { return folder / kRunH5; }
 };
@@ -93,6 +94,112 @@ void flatten_numbers(h5::Group& g, const nlohmann::json& j, const std::string& p
   }
 }
 
+// What a restart keeps of run.h5 and what it drops (ResultsWriter::reopen).
+struct RunFileSurvey {
+  Eigen::Index num_triangles = 0;
+  Eigen::Index num_nodes = 0;
+  std::string csv_header;
+  std::map<std::int64_t, std::string> csv_rows;          // by step index
+  std::vector<std::pair<std::int64_t, XdmfStep>> kept;  // the steps up to the restart time, in order
+  std::vector<std::string> kept_profiles;               // /profiles/<k> of the kept steps
+  std::vector<std::string> dropped;                     // later steps and profiles
+  bool damaged = false;                                 // something to drop cannot be read
+};
+
+bool all_digits(const std::string& name) {
+  return !name.empty() && name.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// A step kept by the restart: its time and fields, its CSV row into `csv_rows`.
+XdmfStep kept_step(const h5::Group& g, std::int64_t k, double t, Eigen::Index num_nodes,
+                   std::map<std::int64_t, std::string>& csv_rows) {
+  if (g.has_attribute("csv_row")) csv_rows.emplace(k, g.attribute_string("csv_row"));
+  XdmfStep st{t, step_group(k), {}};
+  for (const std::string& field : g.children()) {
+    if (field == "positions") continue;
+    const std::vector<hsize_t> dims = g.shape(field);
+    const int comps = dims.size() == 1 ? 1 : int(dims[1]);
+    st.fields.push_back({field, comps, !dims.empty() && Eigen::Index(dims[0]) != num_nodes});
+  }
+  return st;
+}
+
+// Reads run.h5 without changing it. A step or profile that cannot be read is one the killed run
+// was writing, after every step it completed: one before a kept step is an error.
+RunFileSurvey survey_run_file(const h5::File& f, const std::string& path, double t_restart) {
+  RunFileSurvey s;
+  const std::vector<hsize_t> tri = f.shape("mesh/triangles");
+  const std::vector<hsize_t> ref = f.shape("mesh/reference_positions");
+  if (tri.size() != 2 || tri[1] != 3 || ref.size() != 2 || ref[1] != 3) {
+    throw IoError("'" + path + "' is not a capsflow run file: /mesh has unexpected shapes");
+  }
+  s.num_triangles = Eigen::Index(tri[0]);
+  s.num_nodes = Eigen::Index(ref[0]);
+  std::map<std::int64_t, XdmfStep> kept;
+  std::vector<std::int64_t> unreadable;
+  if (f.exists("steps")) {
+    const h5::Group steps = f.open_group("steps");
+    if (steps.has_attribute("csv_header")) s.csv_header = steps.attribute_string("csv_header");
+    for (const std::string& name : steps.children()) {
+      if (!all_digits(name)) {
+        throw IoError("'" + path + "': unexpected group /steps/" + name + " (not written by capsflow?)");
+      }
+      const std::int64_t k = std::stoll(name);
+      try {
+        const h5::Group g = steps.open_group(name);
+        const double t = g.attribute_double("time");
+        if (t <= t_restart) kept.emplace(k, kept_step(g, k, t, s.num_nodes, s.csv_rows));
+        else s.dropped.push_back(step_group(k));
+      } catch (const IoError&) {
+        unreadable.push_back(k);
+      }
+    }
+  }
+  for (const std::int64_t k : unreadable) {
+    if (!kept.empty() && k < kept.rbegin()->first) {
+      throw IoError(fmt::format("'{}': {} was written before the restart time and cannot be read", path,
+                                step_group(k)));
+    }
+    s.dropped.push_back(step_group(k));
+    s.damaged = true;
+  }
+  if (f.exists("profiles")) {
+    const h5::Group profiles = f.open_group("profiles");
+    for (const std::string& name : profiles.children()) {
+      if (!all_digits(name)) {
+        throw IoError("'" + path + "': unexpected group /profiles/" + name + " (not written by capsflow?)");
+      }
+      const bool keep = std::stoull(name) < kept.size();  // profile k belongs to the k-th step
+      (keep ? s.kept_profiles : s.dropped).push_back("/profiles/" + name);
+      try {
+        profiles.open_group(name).attribute_double("time");
+      } catch (const IoError&) {
+        if (keep) throw IoError("'" + path + "': /profiles/" + name + " was written before the restart time and cannot be read");
+        s.damaged = true;
+      }
+    }
+  }
+  for (auto& [k, st] : kept) s.kept.emplace_back(k, std::move(st));
+  return s;
+}
+
+// Replaces run.h5 by a copy of what the restart keeps: the mesh, the metadata, the kept steps with
+// the CSV header and their profiles (the timing table is written again at the run's end).
+void rebuild_run_file(const fs::path& path, const RunFileSurvey& s) {
+  const h5::File from = h5::File::open(path, h5::File::Mode::read_only, true);
+  replace_file_atomically(path, [&](const fs::path& tmp) {
+    h5::File to = h5::File::create(tmp);
+    for (const char* top : {"mesh", "metadata"}) from.copy_to(top, to, top);
+    {
+      h5::Group steps = to.create_group("steps");
+      if (!s.csv_header.empty()) steps.set_attribute("csv_header", s.csv_header);
+    }
+    for (const auto& [k, st] : s.kept) from.copy_to(st.group, to, st.group);
+    for (const std::string& name : s.kept_profiles) from.copy_to(name, to, name);
+    to.close();
+  });
+}
+
 }  // namespace
 
 ResultsWriter::ResultsWriter(std::unique_ptr<State> s) : s_(std::move(s)) {}
@@ -140,55 +247,30 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
   }
   auto s = std::make_unique<State>();
   s->folder = std::move(folder);
-  std::string csv_header;
-  std::map<std::int64_t, std::string> csv_rows;  // by step index: the rows run.h5 keeps (append_row)
+  const fs::path path = s->h5_path();
+  RunFileSurvey survey;
   {
-    h5::File f = h5::File::open(s->h5_path(), h5::File::Mode::read_write, true);
-    const std::vector<hsize_t> tri = f.shape("mesh/triangles");
-    const std::vector<hsize_t> ref = f.shape("mesh/reference_positions");
-    if (tri.size() != 2 || tri[1] != 3 || ref.size() != 2 || ref[1] != 3) {
-      throw IoError("'" + s->h5_path().string() +
-                               "' is not a capsflow run file: /mesh has unexpected shapes");
+    const h5::File f = h5::File::open(path, h5::File::Mode::read_only, true);
+    survey = survey_run_file(f, path.string(), t_restart);
+  }
+  // HDF5 keeps no journal: a run killed while it wrote run.h5 can leave an object whose header is
+  // damaged, which can be neither read nor unlinked. Outputs are written before the checkpoint of
+  // their time, so such an object lies after the restart time: the restart drops it with the rest,
+  // in place when it can, else by copying what it keeps into a new run.h5.
+  s->run_file_rebuilt = survey.damaged;
+  if (!s->run_file_rebuilt) {
+    try {
+      h5::File f = h5::File::open(path, h5::File::Mode::read_write, true);
+      for (const std::string& name : survey.dropped) f.remove(name);
+      f.close();
+    } catch (const IoError&) {
+      s->run_file_rebuilt = true;
     }
-    s->num_triangles = Eigen::Index(tri[0]);
-    s->num_nodes = Eigen::Index(ref[0]);
-
-    // Rebuild the step list from the file; drop the steps after the restart time.
-    std::vector<std::pair<std::int64_t, XdmfStep>> found;
+  }
+  if (s->run_file_rebuilt) rebuild_run_file(path, survey);
+  if (!metadata.empty()) {
+    h5::File f = h5::File::open(path, h5::File::Mode::read_write, true);
     {
-      h5::Group steps = f.require_group("steps");
-      if (steps.has_attribute("csv_header")) csv_header = steps.attribute_string("csv_header");
-      for (const std::string& name : steps.children()) {
-        if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) {
-          throw IoError("'" + s->h5_path().string() + "': unexpected group /steps/" +
-                                   name + " (not written by capsflow?)");
-        }
-        h5::Group g = steps.open_group(name);
-        const std::int64_t k = std::stoll(name);
-        const double t = g.attribute_double("time");
-        if (!(t <= t_restart)) {
-          steps.remove(name);
-          continue;
-        }
-        if (g.has_attribute("csv_row")) csv_rows.emplace(k, g.attribute_string("csv_row"));
-        XdmfStep st{t, step_group(k), {}};
-        for (const std::string& field : g.children()) {
-          if (field == "positions") continue;
-          const std::vector<hsize_t> dims = g.shape(field);
-          const int comps = dims.size() == 1 ? 1 : int(dims[1]);
-          st.fields.push_back(
-              {field, comps, !dims.empty() && Eigen::Index(dims[0]) != s->num_nodes});
-        }
-        found.emplace_back(k, std::move(st));
-      }
-    }
-    std::sort(found.begin(), found.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (auto& [k, st] : found) {
-      s->steps.push_back(std::move(st));
-      s->next_index = k + 1;
-    }
-    if (!metadata.empty()) {
       h5::Group restarts = f.require_group("metadata/restarts");
       h5::Group r = restarts.create_group(std::to_string(restarts.children().size()));
       write_metadata(r, metadata);
@@ -196,15 +278,21 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
     }
     f.close();
   }
+  s->num_triangles = survey.num_triangles;
+  s->num_nodes = survey.num_nodes;
+  for (auto& [k, st] : survey.kept) {
+    s->steps.push_back(std::move(st));
+    s->next_index = k + 1;
+  }
   ResultsWriter w(std::move(s));
   w.rewrite_xdmf();
   TimeseriesCsv::truncate_after(w.s_->folder / kTimeseriesCsv, t_restart);
   // Rows the CSV lost (cut by a crash) come back from run.h5 (a run.h5 of an older capsflow has
   // none: the CSV is then kept as it is).
-  if (!csv_header.empty()) {
+  if (!survey.csv_header.empty()) {
     std::vector<std::string> lines;
-    for (const auto& [k, line] : csv_rows) lines.push_back(line);
-    TimeseriesCsv::restore_rows(w.s_->folder / kTimeseriesCsv, csv_header, lines);
+    for (const auto& [k, line] : survey.csv_rows) lines.push_back(line);
+    TimeseriesCsv::restore_rows(w.s_->folder / kTimeseriesCsv, survey.csv_header, lines);
   }
   return w;
 }
@@ -265,7 +353,6 @@ void ResultsWriter::write_profiles(const std::vector<PlaneProfile>& planes) {
   if (s.steps.empty()) throw std::logic_error("write_profiles: no step written yet");
   h5::File f = h5::File::open(s.h5_path(), h5::File::Mode::read_write, true);
   const std::string name = fmt::format("profiles/{:06}", s.steps.size() - 1);
-  if (f.exists(name)) f.remove(name);  // left over from a run continued by --restart
   {
     h5::Group g = f.require_group(name);
     g.set_attribute("time", s.steps.back().time);
@@ -324,6 +411,7 @@ void ResultsWriter::rewrite_xdmf() const {
 }
 
 const fs::path& ResultsWriter::folder() const { return s_->folder; }
+bool ResultsWriter::run_file_rebuilt() const { return s_->run_file_rebuilt; }
 std::size_t ResultsWriter::num_steps() const { return s_->steps.size(); }
 double ResultsWriter::last_time() const {
   return s_->steps.empty() ? -std::numeric_limits<double>::infinity() : s_->steps.back().time;

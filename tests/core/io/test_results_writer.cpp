@@ -1,13 +1,17 @@
 // ResultsWriter: run.h5 layout, XDMF well-formed and consistent with run.h5, CSV, summary,
-// timings, restart truncation, and writing while another process holds run.h5 open.
+// timings, restart truncation, a restart over a run.h5 damaged by a kill, and writing while
+// another process holds run.h5 open.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <regex>
 
 #include "capsflow/core/io/h5.hpp"
+#include "capsflow/core/io/io_error.hpp"
 #include "capsflow/core/io/results_writer.hpp"
 #include "capsflow/core/io/timeseries_csv.hpp"
 #include "temp_dir.hpp"
@@ -243,6 +247,101 @@ TEST(ResultsWriter, RestartWritesBackTheCsvRowsACrashCut) {
   EXPECT_EQ(read_text(csv), full);
   ResultsWriter::reopen(dir.path(), 0.15);
   EXPECT_EQ(read_text(csv), "t,D12,steady\n0,0,\n0.1,0.3333333333333333,0.5\n");
+}
+
+// Steps at t = 0, 0.1, 0.2, 0.3, each with its CSV row and a profile, as a run writes them.
+void write_four_outputs(const std::filesystem::path& folder, const SurfaceMesh& mesh) {
+  ResultsWriter w(folder, mesh, metadata());
+  for (int k = 0; k < 4; ++k) {
+    const double t = 0.1 * k;
+    write_test_step(w, mesh, t);
+    w.write_profiles({{"x1x3", mesh.vertices * (1 + t), Eigen::VectorXi::LinSpaced(2, 0, 4)}});
+    w.append_row({{"t", t}, {"D12", 0.01 * k}});
+  }
+}
+
+// Makes `object` unreadable the way a SIGKILL during its write was seen to: its object header's
+// version byte is not one HDF5 knows ("bad object header version number"); HDF5 can then neither
+// read nor unlink it.
+void damage_object_header(const std::filesystem::path& file, const std::string& object) {
+  haddr_t addr = HADDR_UNDEF;
+  {
+    const h5::File f = h5::File::open(file);
+#if H5_VERSION_GE(1, 12, 0)
+    H5O_info1_t info;
+    ASSERT_GE(H5Oget_info_by_name1(f.id(), object.c_str(), &info, H5P_DEFAULT), 0) << object;
+#else
+    H5O_info_t info;
+    ASSERT_GE(H5Oget_info_by_name2(f.id(), object.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT), 0) << object;
+#endif
+    addr = info.addr;
+  }
+  std::FILE* fp = std::fopen(file.c_str(), "r+b");
+  ASSERT_NE(fp, nullptr);
+  ASSERT_EQ(std::fseek(fp, long(addr), SEEK_SET), 0);
+  ASSERT_EQ(std::fputc(0xEE, fp), 0xEE);
+  std::fclose(fp);
+  const h5::File f = h5::File::open(file);
+  EXPECT_THROW(f.open_group(object), IoError) << object << " is still readable: the damage did not take";
+}
+
+TEST(ResultsWriter, RestartDropsTheProfilesOfTheStepsItDrops) {
+  TempDir dir;
+  write_four_outputs(dir.path(), tetrahedron());
+  ResultsWriter w = ResultsWriter::reopen(dir.path(), 0.15);
+  EXPECT_FALSE(w.run_file_rebuilt()) << "nothing was damaged: trimmed in place";
+  const h5::File f = h5::File::open(dir / "run.h5");
+  EXPECT_EQ(f.open_group("profiles").children(), (std::vector<std::string>{"000000", "000001"}));
+}
+
+// A run killed while it wrote its last output left a damaged step and profile after the restart
+// time (seen in a SIGKILL test: the restart then failed to unlink /profiles/000001). The restart
+// rebuilds run.h5 without them, and the continued run writes over their names.
+TEST(ResultsWriter, RestartRebuildsARunFileWithDamagedObjectsAfterTheRestartTime) {
+  TempDir dir;
+  const SurfaceMesh mesh = tetrahedron();
+  write_four_outputs(dir.path(), mesh);
+  damage_object_header(dir / "run.h5", "/steps/000003");
+  damage_object_header(dir / "run.h5", "/profiles/000003");
+  ResultsWriter w = ResultsWriter::reopen(dir.path(), 0.2, {{"command_line", "capsflow run --restart"}});
+  EXPECT_TRUE(w.run_file_rebuilt());
+  EXPECT_EQ(w.num_steps(), 3u);
+  {
+    const h5::File f = h5::File::open(dir / "run.h5");
+    EXPECT_EQ(f.open_group("steps").children(), (std::vector<std::string>{"000000", "000001", "000002"}));
+    EXPECT_EQ(f.open_group("profiles").children(), (std::vector<std::string>{"000000", "000001", "000002"}));
+    // What is kept is copied exactly (bit for bit: the same doubles).
+    EXPECT_EQ(f.read_matrix<double>("steps/000002/positions"), mesh.vertices * 1.2);
+    EXPECT_EQ(f.read_matrix<double>("profiles/000002/x1x3/points"), mesh.vertices * 1.2);
+    EXPECT_EQ(f.read_matrix<int>("mesh/triangles"), mesh.triangles);
+    EXPECT_EQ(f.open_group("metadata").read_string("command_line"), "capsflow run scene.toml -o out");
+    EXPECT_EQ(f.open_group("metadata/restarts/0").attribute_double("t_restart"), 0.2);
+    EXPECT_EQ(f.open_group("steps").attribute_string("csv_header"), "t,D12");
+  }
+  write_test_step(w, mesh, 0.30000000000000004);
+  w.write_profiles({{"x1x3", mesh.vertices, Eigen::VectorXi::LinSpaced(2, 0, 4)}});
+  w.append_row({{"t", 0.30000000000000004}, {"D12", 0.03}});
+  const h5::File f = h5::File::open(dir / "run.h5");
+  EXPECT_EQ(f.open_group("steps/000003").attribute_double("time"), 0.30000000000000004);
+  EXPECT_EQ(f.open_group("profiles").children().size(), 4u);
+  EXPECT_EQ(read_text(dir / "timeseries.csv"), "t,D12\n0,0\n0.1,0.01\n0.2,0.02\n0.30000000000000004,0.03\n");
+}
+
+// A damaged step the restart would keep is data it cannot give back: refused, naming it, and
+// run.h5 is left as it was.
+TEST(ResultsWriter, RestartRefusesARunFileDamagedBeforeTheRestartTime) {
+  TempDir dir;
+  write_four_outputs(dir.path(), tetrahedron());
+  damage_object_header(dir / "run.h5", "/steps/000001");
+  const std::string before = read_text(dir / "run.h5");
+  try {
+    ResultsWriter::reopen(dir.path(), 0.2);
+    ADD_FAILURE() << "reopen accepted a run.h5 whose kept step is damaged";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("/steps/000001 was written before the restart time and cannot be read"),
+              std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read_text(dir / "run.h5"), before);
 }
 
 TEST(TimeseriesCsv, RestoreRowsChangesNothingWhenNoRowIsMissing) {

@@ -71,6 +71,9 @@ class Location {
   Group open_group(const std::string& name) const;
   Group require_group(const std::string& name);  // open, or create if missing
   void remove(const std::string& name);          // unlink (HDF5 1.10 does not reclaim the space)
+  // Copies object `name` (a group with all below it, or a dataset, with their attributes) to
+  // `dest_name` in `dest`, which may be in another file; missing intermediate groups are created.
+  void copy_to(const std::string& name, Location& dest, const std::string& dest_name) const;
 
   // Datasets. Writing replaces an existing dataset of the same name.
   template <typename Derived>

@@ -71,8 +71,11 @@ class ResultsWriter {
 
   // Restart: open an existing run folder, drop the steps with time > t_restart from run.h5 and
   // run.xmf and the CSV rows with t > t_restart (a step at exactly t_restart is kept: do not
-  // write it again); CSV rows that run.h5 keeps but the CSV lost are written back. Non-empty `metadata` (the restarted run's command line, ...) is recorded
-  // under /metadata/restarts/<n> with attribute t_restart.
+  // write it again), their profiles, and the CSV rows with t > t_restart; CSV rows that run.h5
+  // keeps but the CSV lost are written back. Non-empty `metadata` (the restarted run's command
+  // line, ...) is recorded under /metadata/restarts/<n> with attribute t_restart. A run.h5 with a
+  // damaged object after the restart time (a run killed while writing it) is rebuilt from what the
+  // restart keeps (run_file_rebuilt()); a damaged one before it is an IoError naming it.
   static ResultsWriter reopen(std::filesystem::path folder, double t_restart,
                               const nlohmann::json& metadata = nlohmann::json::object());
 
@@ -104,6 +107,8 @@ class ResultsWriter {
   void write_timings(const nlohmann::json& table);
 
   const std::filesystem::path& folder() const;
+  // reopen found a damaged object in run.h5 and wrote a new run.h5 without it.
+  bool run_file_rebuilt() const;
   std::size_t num_steps() const;
   double last_time() const;  // time of the last step; -inf when there is none
   Eigen::Index num_nodes() const;
