@@ -78,16 +78,16 @@ constexpr int kSlots = 1 + kMaxColumns;
 
 // The PCG of BlockPcg::solve for a block size BS and K columns known at compile time (a row's
 // sums of a matrix pass stay in registers), in ONE parallel region for the whole solve: the team
-// is started once per solve and each iteration has two barriers (TeamBarrier), one after each
-// reduction. Every thread owns a contiguous range of chunks; after a barrier every thread adds all
-// chunks' partials itself, in chunk order, so all threads take the same decisions (no broadcast).
+// is started once per solve. Every thread owns a contiguous range of chunks; after a barrier every
+// thread adds all chunks' partials itself, in chunk order, so all threads take the same decisions
+// (no broadcast).
 //
-// Per iteration: pass A — p = z + β p_old on own rows, q = A p, partial p·q — and pass B —
-// x += α p, r −= α q, z = P r, partial r·r and r·z. On a team, pass A computes the p it reads from
-// neighbouring rows itself, z_j + β p_old,j, from the previous iteration's vectors (p is double
-// buffered), instead of waiting at a third barrier for their owners to store it: the same
-// rounding, so the same bits. Every multiply-add is fused explicitly (par::fmadd), so the three
-// forms of pass A (first iteration, one thread, a team) agree bit for bit.
+// Per iteration: p = z + β p_old on own rows, a barrier (the product reads neighbours' p); pass A
+// — q = A p, partial p·q —, a barrier; pass B — x += α p, r −= α q, z = P r, partials r·r and
+// r·z —, a barrier. Three barriers, not two: computing the neighbours' p inside the product
+// instead (z_j + β p_old,j per matrix entry) doubles the vectors it reads, and on 2 threads made
+// the solve at 40 962 nodes slower than on one (perf/RESULTS.md §1.3). Every multiply-add is fused
+// explicitly (par::fmadd): the same bits for any thread count.
 template <int BS, int K>
 int pcg_solve(const SpMatR& A, const double* pinv, const double* b, double* x, double tol, int max_iter,
               double* relres, bool x_is_guess, double* r, double* z, double* p_a, double* p_b, double* q, double* part) {
@@ -181,9 +181,10 @@ int pcg_solve(const SpMatR& A, const double* pinv, const double* b, double* x, d
       for (long k = blk0 * BS * K; k < blk1 * BS * K; ++k) x[k] = 0;
     } else {
       while (rn > tol * bnorm && it < max_iter) {
-        // pass A: p (unless first), q = A p, partials p.q
-        if (it > 0 && T == 1) {
-          for (long k = 0; k < n * K; ++k) p[k] = fmadd(beta[k % K], p_old[k], z[k]);
+        // p = z + β p_old (the first p is z), then pass A: q = A p, partials p.q
+        if (it > 0) {
+          for (long k = blk0 * BS * K; k < blk1 * BS * K; ++k) p[k] = fmadd(beta[k % K], p_old[k], z[k]);
+          barrier.wait(T);
         }
         for (long ch = ch0; ch < ch1; ++ch) {
           double pq[K];
@@ -191,12 +192,7 @@ int pcg_solve(const SpMatR& A, const double* pinv, const double* b, double* x, d
           const long e = std::min(nb, (ch + 1) * kPcgChunk) * BS;
           for (long row = ch * kPcgChunk * BS; row < e; ++row) {
             double* qr = q + row * K;
-            if (it > 0 && T > 1) {
-              for (int c = 0; c < K; ++c) p[row * K + c] = fmadd(beta[c], p_old[row * K + c], z[row * K + c]);
-              row_times(row, qr, [&](long j, int c) { return fmadd(beta[c], p_old[j * K + c], z[j * K + c]); });
-            } else {
-              row_times(row, qr, [&](long j, int c) { return p[j * K + c]; });
-            }
+            row_times(row, qr, [&](long j, int c) { return p[j * K + c]; });
             for (int c = 0; c < K; ++c) pq[c] = fmadd(p[row * K + c], qr[c], pq[c]);
           }
           for (int c = 0; c < K; ++c) part_a[kSlots * ch + c] = pq[c];

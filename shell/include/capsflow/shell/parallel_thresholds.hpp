@@ -31,11 +31,11 @@ inline constexpr int kParallelMembranePass = 12288;
 /// Matrix rows of the stand-alone sparse product (spmv) and block rows of the PCG preconditioner
 /// set-up (was 4096; ~3 ns per row, break-even ~35 000 rows).
 inline constexpr int kParallelRows = 32768;
-/// Entries (rows × right-hand sides) of a PCG solve, which runs as one team per solve with two
-/// TeamBarrier waits per iteration (was 8192 with two teams per iteration). Estimate, to be
-/// re-measured (docs/shell.md §2.7): a solve of ~15 iterations at ~10–15 ns per entry and
-/// iteration saves half of that on two threads against one team (~50 µs) and 30 spinning barriers
-/// (~1 µs each when both threads run): break-even near 1 000 entries; this is twice that.
+/// Entries (rows × right-hand sides) of a PCG solve, which runs as one team per solve with three
+/// TeamBarrier waits per iteration. Estimate, to be re-measured (docs/shell.md §2.7): a solve of
+/// ~15 iterations at ~10–15 ns per entry and iteration saves half of that on two threads against
+/// one team (~50 µs) and 45 spinning barriers (~1 µs each when both threads run): break-even near
+/// 1 500 entries; this is 1.4 times that.
 inline constexpr long kParallelPcgEntries = 2048;
 /// Terms of a deterministic sum (par::det_sum) (was 8192; 0.5 ns per term, break-even ~190 000).
 inline constexpr long kParallelSumTerms = 131072;
