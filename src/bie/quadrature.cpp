@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "capsflow/core/bie/point_triangle.hpp"
+
 namespace capsflow {
 
 GaussLegendre::GaussLegendre(int n) : x(static_cast<size_t>(n)), w(static_cast<size_t>(n)) {
@@ -208,6 +210,37 @@ std::array<Mat3, 3> refined_element_integral(const Vec3& p, const QuadraticTrian
 
 std::array<Mat3, 3> refined_element_integral(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, int depth) {
   return refined_element_integral(p, QuadraticTriangle::flat(x0, x1, x2), depth);
+}
+
+namespace {
+// The part of T with parent barycentrics `bary` (rows; area param_area in (ξ, η)), split until it
+// lies farther than kAdaptiveSplitRatio of its diameters from p; distances from its corners.
+Vec3 adaptive_part(const Vec3& p, const QuadraticTriangle& T, const Vec3 (&q)[3], const Eigen::Matrix3d& bary,
+                   double param_area, int depth) {
+  Vec3 y[3];
+  for (int v = 0; v < 3; ++v) y[v] = T.position(bary(v, 1), bary(v, 2));
+  const double diam = std::max({(y[1] - y[0]).norm(), (y[2] - y[1]).norm(), (y[0] - y[2]).norm()});
+  const double dist = point_triangle_distance(p, y[0], y[1], y[2]);
+  if (dist > kAdaptiveSplitRatio * diam || depth >= kAdaptiveMaxDepth) {
+    Vec3 sum = Vec3::Zero();
+    if (dist <= 0) return sum;
+    for (const auto& r : kDunavant7) {
+      const Eigen::RowVector3d lam = r[0] * bary.row(0) + r[1] * bary.row(1) + r[2] * bary.row(2);
+      const Vec3 qq = lam[0] * q[0] + lam[1] * q[1] + lam[2] * q[2];
+      sum += (r[3] * param_area * T.jacobian(lam[1], lam[2])) * stokeslet_apply(p - T.position(lam[1], lam[2]), qq);
+    }
+    return sum;
+  }
+  const std::array<Eigen::Matrix3d, 4> c = split_in_four(bary);
+  Vec3 sum = Vec3::Zero();
+  for (const auto& sub : c) sum += adaptive_part(p, T, q, sub, param_area / 4, depth + 1);
+  return sum;
+}
+}  // namespace
+
+Vec3 adaptive_element_apply(const Vec3& p, const QuadraticTriangle& T, const Vec3& q0, const Vec3& q1, const Vec3& q2) {
+  const Vec3 q[3] = {q0, q1, q2};
+  return adaptive_part(p, T, q, Eigen::Matrix3d::Identity(), 0.5, 0);
 }
 
 }  // namespace capsflow

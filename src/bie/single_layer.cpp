@@ -73,6 +73,17 @@ void SingleLayer::build_sources(const Points& x, const Points& q) {
     }
 }
 
+Vec3 SingleLayer::element_far_terms(Eigen::Index e, const Vec3& p) const {
+  Vec3 sum = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const double* y = far_.slot_position(static_cast<size_t>(3 * e + k));
+    const double* f = far_.slot_value(static_cast<size_t>(3 * e + k));
+    const Vec3 r = p - Vec3(y[0], y[1], y[2]);
+    if (r.squaredNorm() > 0) sum += stokeslet_apply(r, Vec3(f[0], f[1], f[2]));
+  }
+  return sum;
+}
+
 void SingleLayer::far_field(double* out, bool at_nodes) {
   if (far_.backend() == FarFieldBackend::Fmm)
     far_.evaluate(FarField<fmm::Stokeslet>::kMainFmm, far_.values(), out);

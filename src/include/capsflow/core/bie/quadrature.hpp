@@ -62,6 +62,15 @@ std::array<Mat3, 3> singular_element_double_layer(const QuadraticTriangle& T, co
 std::array<Mat3, 3> refined_element_integral(const Vec3& p, const QuadraticTriangle& T, int depth);
 std::array<Mat3, 3> refined_element_integral(const Vec3& p, const Vec3& x0, const Vec3& x1, const Vec3& x2, int depth);
 
+// ∫_e G(p − y) q(y) dS_y for a P1 load (q0, q1, q2 at T's vertices x0, x1, x2) and a target p near
+// the element but not on it (another surface, a point of the flow): the element is split 4-to-1
+// until each part lies farther than kAdaptiveSplitRatio of its diameters from p, at most
+// kAdaptiveMaxDepth times, with Dunavant's 7 points on each part. A target on the element gets 0
+// (no finite quadrature: its callers report such targets as too close).
+inline constexpr double kAdaptiveSplitRatio = 4.0;
+inline constexpr int kAdaptiveMaxDepth = 14;
+Vec3 adaptive_element_apply(const Vec3& p, const QuadraticTriangle& T, const Vec3& q0, const Vec3& q1, const Vec3& q2);
+
 // Hot-path forms, applied to a P1 load (q_k at the element's vertices, in the order x0, x1, x2 of
 // T). Singular element: returns the closed-form flat part Σ_k (∫ G φ_k dS) q_k and pushes the
 // curvature-correction points as Stokeslet terms (w, weight · q(y)) into `batch` (none when flat);

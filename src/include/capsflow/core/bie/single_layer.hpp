@@ -59,6 +59,13 @@ class SingleLayer {
   // u_i at every node x_i (u is resized to N×3).
   void apply(const Points& x, const Points& q, Points& u);
 
+  // The surface of the last apply(), and what its far field summed for element e at a point p
+  // (its rule points' Stokeslets, unscaled; a pair at r = 0 skipped as the far field skips it): a
+  // near-field correction at a target off this element's surface subtracts exactly this.
+  const Triangles& triangles() const { return tri_; }
+  const BoundarySurface& surface() const { return surface_; }
+  Vec3 element_far_terms(Eigen::Index e, const Vec3& p) const;
+
   FarFieldBackend backend() const { return far_.backend(); }
   FarFieldRule far_rule() const { return far_.rule(); }
   Eigen::Index far_field_sources() const { return far_.sources(); }
