@@ -6,7 +6,6 @@
 
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/rhs/volume_constraint.hpp"
-#include "capsflow/core/rhs/wall_factory.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
 
 namespace capsflow {
@@ -17,8 +16,7 @@ CapsuleDynamics::CapsuleDynamics(const Scene& scene, const SurfaceMesh& referenc
       volume_correction_(scene.fluid.volume_correction),
       tri_(reference.triangles),
       n_nodes_(reference.num_nodes()),
-      wall_(wall ? std::move(wall) : make_wall(scene, reference)),
-      mass_(reference.triangles, reference.num_nodes()),
+      wall_load_(scene, reference, std::move(wall)),
       bie_(reference.triangles, reference.num_nodes(), boundary_integral_options(scene, threads)) {
   if (scene.fluid.viscosity_ratio != 1.0) {
     GmresOptions go;
@@ -40,63 +38,20 @@ PhaseTimes CapsuleDynamics::times() const {
   return t;
 }
 
-EvaluationKind evaluation_kind(const EvaluationHint& hint) {
-  switch (hint.role) {
-    case EvaluationHint::Role::Probe: return EvaluationKind::Probe;
-    case EvaluationHint::Role::Output: return EvaluationKind::Output;
-    case EvaluationHint::Role::Trajectory: break;
-  }
-  if (hint.stage == 0) return EvaluationKind::StepStart;
-  return hint.predictor.terms > 0 ? EvaluationKind::PredictedStage : EvaluationKind::Stage;
-}
-
-void CapsuleDynamics::wall_and_load(const Points& x, const EvaluationHint& hint, Stopwatch& clock) {
-  SolveCounts& by_kind = counters_.by_kind[static_cast<std::size_t>(evaluation_kind(hint))];
-  ++by_kind.evaluations;
-  shell::Wall::WarmStart warm;
-  static_assert(shell::Wall::WarmStart::kSlots == StagePredictor::kSlots &&
-                shell::Wall::WarmStart::kTerms == StagePredictor::kTerms);
-  const StagePredictor& p = hint.predictor;
-  warm.keep_start = p.keep_start, warm.keep = p.keep, warm.terms = p.terms, warm.slot = p.slot, warm.weight = p.weight;
-  for (int attempt = 0;; ++attempt) {
-    wall_->set_warm_start(warm);
-    warm.keep_start = -1, warm.terms = 0;  // a retry starts from the nodal normals (and keeps its solution)
-    wall_->forces(x, R_, &last_stats_);
-    counters_.newton_iterations += last_stats_.newton_iterations;
-    counters_.cg_iterations += last_stats_.cg_iterations;
-    by_kind.newton_iterations += last_stats_.newton_iterations;
-    by_kind.cg_iterations += last_stats_.cg_iterations;
-    if (last_stats_.converged) break;
-    if (attempt == 1) {
-      clock.lap(times_, Phase::Wall);
-      throw SolverFailure(fmt::format("rotation Newton did not converge (residual {:.1e} rad after {} iterations, "
-                                      "also from a fresh start)", last_stats_.residual, last_stats_.newton_iterations));
-    }
-    ++counters_.rotation_fresh_starts;
-    wall_->restart_rotations(x);
-  }
-  clock.lap(times_, Phase::Wall);
-
-  counters_.mass_cg_iterations += mass_.solve(x, R_, q_);
-  clock.lap(times_, Phase::Load);
-  if (!mass_.last_converged())
-    throw SolverFailure(fmt::format("mass-matrix CG stopped at its iteration cap ({} iterations, relative residual {:.1e})",
-                                    shell::LoadRecovery::kMaxIterations, mass_.last_relative_residual()));
-}
-
 void CapsuleDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
   Stopwatch clock;
-  wall_and_load(x, hint, clock);
+  wall_load_.solve(x, hint, counters_, times_, clock);
   ++counters_.wall_solves;
 }
 
 CapsuleDynamics::Carry CapsuleDynamics::carry() const {
-  return {wall_->state(), q_, viscosity_ ? viscosity_->warm_start() : ViscosityRatioSolver::WarmStart{}};
+  return {wall_load_.wall().state(), wall_load_.load(),
+          viscosity_ ? viscosity_->warm_start() : ViscosityRatioSolver::WarmStart{}};
 }
 
 void CapsuleDynamics::restore(Carry c) {
-  wall_->set_state(c.wall);
-  q_ = std::move(c.load);
+  wall_load_.wall().set_state(c.wall);
+  wall_load_.set_load(std::move(c.load));
   if (viscosity_) viscosity_->set_warm_start(std::move(c.viscosity));
 }
 
@@ -151,9 +106,9 @@ void CapsuleDynamics::load_fluid_state(const nlohmann::json& extra, const Eigen:
 void CapsuleDynamics::evaluate(const Points& x, Points& v, const EvaluationHint& hint) {
   const bool probe = hint.role == EvaluationHint::Role::Probe;
   Stopwatch clock;
-  wall_and_load(x, hint, clock);
+  wall_load_.solve(x, hint, counters_, times_, clock);
 
-  bie_.apply(x, q_, u_);
+  bie_.apply(x, wall_load_.load(), u_);
 
   clock.restart();
   // v = v∞ − S[q] (paper Eq. 34), the imposed flow taken relative to the capsule's centroid c:

@@ -23,36 +23,12 @@
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/bie/viscosity_ratio.hpp"
 #include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/rhs/rhs_counters.hpp"
 #include "capsflow/core/rhs/right_hand_side.hpp"
+#include "capsflow/core/rhs/wall_and_load.hpp"
 #include "capsflow/core/scene/scene.hpp"
-#include "capsflow/shell/load_recovery.hpp"
-#include "capsflow/shell/wall.hpp"
 
 namespace capsflow {
-
-// What the rotation solve did for one kind of evaluation (RhsCounters::by_kind).
-struct SolveCounts {
-  long evaluations = 0, newton_iterations = 0, cg_iterations = 0;
-  long gmres_iterations = 0;  // the λ ≠ 1 solve's (double-layer applications after its set-up)
-};
-
-// The kinds of evaluation counted apart, from the hint: the step's start state (stage 0), a later
-// stage of a step started from the last evaluation's solution, one started from the scheme's stage
-// predictor (EvaluationHint::predictor), a spectral-radius probe, the run's output at the current state.
-enum class EvaluationKind { StepStart, Stage, PredictedStage, Probe, Output };
-inline constexpr std::array<const char*, 5> kEvaluationKindNames = {"step_start", "stage", "predicted_stage", "probe",
-                                                                    "output"};
-EvaluationKind evaluation_kind(const EvaluationHint& hint);
-
-// What the inner solvers of the right-hand side did, summed over evaluations.
-struct RhsCounters {
-  long evaluations = 0;
-  long newton_iterations = 0, cg_iterations = 0, mass_cg_iterations = 0;
-  long rotation_fresh_starts = 0;  // Newton solves retried from the nodal normals
-  long gmres_iterations = 0;       // λ ≠ 1: double-layer applications of the second-kind solves
-  long wall_solves = 0;            // wall and load without the fluid (solve_wall: outputs without velocities)
-  std::array<SolveCounts, kEvaluationKindNames.size()> by_kind;  // the rotation solve by EvaluationKind
-};
 
 class CapsuleDynamics final : public RightHandSide {
  public:
@@ -94,9 +70,9 @@ class CapsuleDynamics final : public RightHandSide {
   void save_fluid_state(nlohmann::json& extra, Eigen::MatrixXd& matrix) const;
   void load_fluid_state(const nlohmann::json& extra, const Eigen::MatrixXd& matrix);
 
-  const Points& load() const { return q_; }
-  shell::Wall& wall() { return *wall_; }
-  const shell::Wall& wall() const { return *wall_; }
+  const Points& load() const { return wall_load_.load(); }
+  shell::Wall& wall() { return wall_load_.wall(); }
+  const shell::Wall& wall() const { return wall_load_.wall(); }
   const SingleLayer& single_layer() const { return bie_; }
   // The second-kind solve (λ ≠ 1), or null.
   const ViscosityRatioSolver* viscosity_ratio_solver() const { return viscosity_.get(); }
@@ -106,22 +82,16 @@ class CapsuleDynamics final : public RightHandSide {
   const Mat3& gradient() const { return L_; }
 
  private:
-  // The wall's equilibrium (retried once from the nodal normals) and M(x) q = R_s, counted under
-  // the hint's kind of evaluation.
-  void wall_and_load(const Points& x, const EvaluationHint& hint, Stopwatch& clock);
-
   Mat3 L_;
   bool volume_correction_;
   Triangles tri_;
   Eigen::Index n_nodes_;
-  std::unique_ptr<shell::Wall> wall_;
-  shell::LoadRecovery mass_;
+  WallAndLoad wall_load_;
   SingleLayer bie_;
   std::unique_ptr<ViscosityRatioSolver> viscosity_;  // λ ≠ 1 only
-  Points R_, q_, u_, w_, nodal_area_normal_;          // scratch, reused across calls
+  Points u_, w_, nodal_area_normal_;                  // scratch, reused across calls
   PhaseTimes times_;                      // wall, load, other (the BIE keeps its own)
   RhsCounters counters_;
-  shell::WallStats last_stats_;
 };
 
 }  // namespace capsflow

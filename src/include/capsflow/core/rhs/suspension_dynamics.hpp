@@ -1,0 +1,51 @@
+#pragma once
+// The right-hand side of several capsules in one unbounded linear flow, at viscosity ratio 1:
+// positions x of all capsules (the rows of their SurfaceSet's union) → node velocities
+//   v = L (x − c̄) − Σ_k S_k[q_k],
+// each capsule's load q_k from its own wall stage (WallAndLoad), the single layers of all
+// capsules in one MultiSurfaceSingleLayer (one far field, each capsule's near field, the
+// corrections between capsules: docs/boundary-integral.md §4.9). c̄ is the volume centroid of all
+// capsules together, the frame point that CapsuleDynamics takes for one capsule (its centroid), so
+// that one capsule gives CapsuleDynamics' velocity bit for bit. With fluid.volume_correction
+// each capsule's flux is removed on its own rows (its volume is conserved, not only the sum).
+// Not yet in a scene: capsflow run has one capsule.
+#include <vector>
+
+#include "capsflow/core/bie/multi_surface_single_layer.hpp"
+#include "capsflow/core/geometry/surface_set.hpp"
+#include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/rhs/rhs_counters.hpp"
+#include "capsflow/core/rhs/right_hand_side.hpp"
+#include "capsflow/core/rhs/wall_and_load.hpp"
+#include "capsflow/core/scene/scene.hpp"
+
+namespace capsflow {
+
+class SuspensionDynamics final : public RightHandSide {
+ public:
+  // One scene for every capsule (wall, flow and fluid keys); `capsules` holds their reference
+  // surfaces, placed where they start. Throws std::invalid_argument at a viscosity ratio ≠ 1.
+  SuspensionDynamics(const Scene& scene, const SurfaceSet& capsules, int threads = 0);
+
+  void evaluate(const Points& x, Points& v, const EvaluationHint& hint) override;
+
+  const SurfaceSet& capsules() const { return set_; }
+  const Points& load() const { return q_; }  // every capsule's, in the union's rows
+  shell::Wall& wall(int k) { return walls_.at(static_cast<std::size_t>(k)).wall(); }
+  const MultiSurfaceSingleLayer& single_layer() const { return bie_; }
+  const RhsCounters& counters() const { return counters_; }
+  PhaseTimes times() const;
+
+ private:
+  SurfaceSet set_;
+  Mat3 L_;
+  bool volume_correction_;
+  std::vector<WallAndLoad> walls_;
+  MultiSurfaceSingleLayer bie_;
+  std::vector<Points> x_part_;                  // each capsule's rows of x, for its wall
+  Points q_, u_, area_normal_, part_a_, part_v_;  // scratch, reused across calls
+  PhaseTimes times_;
+  RhsCounters counters_;
+};
+
+}  // namespace capsflow
