@@ -99,6 +99,7 @@ CrossNearField::CrossNearField(const SurfaceSet& set, double near_ratio, int thr
 void CrossNearField::find_pairs(const Points& x) {
   closest_ = SurfaceGap{};
   inside_nodes_ = 0;
+  deepest_inside_ = SurfaceGap{};
   pair_node_.clear();
   pair_begin_.assign(1, 0);
   pair_element_.clear();
@@ -135,7 +136,10 @@ void CrossNearField::find_pairs(const Points& x) {
           found.emplace_back(i, e);
           if (d < nearest.distance) nearest = {d / h, d, j, k, i, e, d == 0 || (p - foot).dot((b - a).cross(c - a)) < 0};
         }
-        if (nearest.inside) ++inside_nodes_;
+        if (nearest.inside) {
+          ++inside_nodes_;
+          if (deepest_inside_.node < 0 || nearest.distance > deepest_inside_.distance) deepest_inside_ = nearest;
+        }
         if (nearest.ratio < closest_.ratio) closest_ = nearest;
       }
     }

@@ -1,5 +1,8 @@
 #include "capsflow/core/rhs/suspension_dynamics.hpp"
 
+#include <fmt/core.h>
+
+#include <algorithm>
 #include <stdexcept>
 
 #include "capsflow/core/geometry/measures.hpp"
@@ -50,6 +53,13 @@ void SuspensionDynamics::evaluate(const Points& x, Points& v, const EvaluationHi
     q_.middleRows(p.node_begin, p.nodes) = w.load();
   }
   bie_.apply(x, q_, u_);
+  if (bie_.cross().inside_nodes() > 0) {  // surfaces that crossed: no velocity of a state that cannot be
+    const SurfaceGap& g = bie_.cross().deepest_inside();
+    throw SolverFailure(fmt::format("capsules {} and {} overlap: {} node(s) of one inside the other, node {} of capsule {} "
+                                    "{:.2g} element sizes deep",
+                                    std::min(g.part, g.other), std::max(g.part, g.other), bie_.cross().inside_nodes(), g.node - set_.part(g.part).node_begin,
+                                    g.part, g.ratio));
+  }
   clock.restart();
   // The imposed flow relative to the capsules' common volume centroid (CapsuleDynamics::evaluate).
   const Vec3 c = volume_moments(x, set_.mesh().triangles).centroid;

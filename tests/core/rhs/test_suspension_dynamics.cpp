@@ -104,6 +104,29 @@ TEST(Suspension, PointSymmetricCapsulesStayPointSymmetric) {
   EXPECT_GT(max_row_norm(x.topRows(n) - a.vertices), 1e-3) << "the capsules moved";
 }
 
+// Capsules whose surfaces crossed have no velocity: the evaluation throws, naming both.
+TEST(Suspension, OverlappingCapsulesAreAFailureNamingBoth) {
+  const Scene s = scene_with({"mesh.level=2", "wall.model=\"membrane\"", "wall.law=\"nh\""});
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  const double extent = ref.vertices.col(0).maxCoeff() - ref.vertices.col(0).minCoeff();
+  for (const double overlap : {-0.05, 0.05}) {  // apart by 5 % of the size, then overlapping by as much
+    SuspensionDynamics two(s, SurfaceSet({ref, shifted(ref, Vec3((1 - overlap) * extent, 0, 0))}));
+    Points v;
+    const EvaluationHint hint{EvaluationHint::Role::Trajectory, 0};
+    if (overlap < 0) {
+      EXPECT_NO_THROW(two.evaluate(two.capsules().mesh().vertices, v, hint));
+      EXPECT_GT(two.single_layer().cross().pairs(), 0u) << "close enough for cross corrections";
+      continue;
+    }
+    try {
+      two.evaluate(two.capsules().mesh().vertices, v, hint);
+      ADD_FAILURE() << "overlapping capsules got a velocity";
+    } catch (const SolverFailure& e) {
+      EXPECT_NE(std::string(e.what()).find("capsules 0 and 1 overlap"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Suspension, RefusesAViscosityRatioOtherThanOne) {
   const Scene s = scene_with({"mesh.level=1", "fluid.viscosity_ratio=5"});
   const SurfaceMesh ref = make_reference_mesh(s.mesh);

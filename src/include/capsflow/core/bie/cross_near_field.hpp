@@ -43,6 +43,7 @@ class CrossNearField {
   // Nodes behind the outward side of their nearest element of another surface: inside it, where
   // that element's face (not an edge or a corner) is the nearest point.
   std::size_t inside_nodes() const { return inside_nodes_; }
+  const SurfaceGap& deepest_inside() const { return deepest_inside_; }  // the farthest of them from the surface
   std::size_t pairs() const { return pair_element_.size(); }
   double near_ratio() const { return near_ratio_; }
 
@@ -56,6 +57,7 @@ class CrossNearField {
   std::vector<int> pair_element_;           // per node in ascending element order
   SurfaceGap closest_;
   std::size_t inside_nodes_ = 0;
+  SurfaceGap deepest_inside_;
 };
 
 }  // namespace capsflow

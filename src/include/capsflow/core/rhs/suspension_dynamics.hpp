@@ -8,6 +8,9 @@
 // capsules together, the frame point that CapsuleDynamics takes for one capsule (its centroid), so
 // that one capsule gives CapsuleDynamics' velocity bit for bit. With fluid.volume_correction
 // each capsule's flux is removed on its own rows (its volume is conserved, not only the sum).
+// Surfaces never cross silently: a state with a node of one capsule behind the nearest element of
+// another (found within 3 element sizes of its surface, as surfaces approach) throws SolverFailure
+// naming both capsules.
 // Not yet in a scene: capsflow run has one capsule.
 #include <vector>
 
