@@ -1,5 +1,7 @@
 #include "capsflow/core/rhs/volume_constraint.hpp"
 
+#include <stdexcept>
+
 #include <cmath>
 
 #include "capsflow/core/geometry/measures.hpp"
@@ -36,6 +38,28 @@ double project_volume(Points& x, const Triangles& tri, double target, Points& a)
     const double delta = (target - V) / weight;  // dV = Σ a_i·(δ a_i/|a_i|) = δ Σ|a_i|
     for (Eigen::Index i = 0; i < a.rows(); ++i) x.row(i) += delta * a.row(i).normalized();
     moved += std::abs(delta);
+  }
+  return moved;
+}
+
+VolumeProjection::VolumeProjection(const SurfaceSet& surfaces, std::vector<double> targets)
+    : targets_(std::move(targets)) {
+  if (static_cast<int>(targets_.size()) != surfaces.size())
+    throw std::invalid_argument("volume projection: one target volume per surface");
+  for (int k = 0; k < surfaces.size(); ++k) {
+    const SurfacePart& p = surfaces.part(k);
+    parts_.push_back(p);
+    triangles_.push_back(surfaces.mesh().triangles.middleRows(p.element_begin, p.elements).array() -
+                         static_cast<int>(p.node_begin));
+  }
+}
+
+double VolumeProjection::apply(Points& x) {
+  double moved = 0;
+  for (std::size_t k = 0; k < parts_.size(); ++k) {
+    part_ = x.middleRows(parts_[k].node_begin, parts_[k].nodes);
+    moved += project_volume(part_, triangles_[k], targets_[k], scratch_);
+    x.middleRows(parts_[k].node_begin, parts_[k].nodes) = part_;
   }
   return moved;
 }

@@ -77,4 +77,21 @@ std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const TimePla
   throw std::logic_error("make_time_stepper: the time plan holds no scheme");
 }
 
+std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const TimePlan& plan, double tolerance,
+                                               const SurfaceSet& capsules, std::vector<double> volumes0, const Points& x) {
+  const Triangles& triangles = capsules.mesh().triangles;
+  if (plan.scheme == TimeScheme::Heun) return make_heun(scene, triangles, x);  // Heun does not project
+  StabilizedStepper::Options o = stabilized_options(scene, plan, tolerance, triangles, 0.0);
+  if (scene.fluid.volume_correction)
+    o.project = [projection = std::make_shared<VolumeProjection>(capsules, std::move(volumes0))](Points& y) {
+      projection->apply(y);
+    };
+  switch (plan.scheme) {
+    case TimeScheme::Rkc: return std::make_unique<Rkc2>(std::move(o));
+    case TimeScheme::Rock4: return make_rock4(std::move(o), triangles);
+    default: break;
+  }
+  throw std::logic_error("make_time_stepper: the time plan holds no scheme");
+}
+
 }  // namespace capsflow

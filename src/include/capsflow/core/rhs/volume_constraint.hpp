@@ -8,6 +8,9 @@
 //   uniform normal displacement, removing what a large time step adds (the integrator's O(τ³)
 //   per step; Hairer, Lubich & Wanner, Geometric Numerical Integration, §IV.4: standard
 //   projection onto an invariant).
+#include <vector>
+
+#include "capsflow/core/geometry/surface_set.hpp"
 #include "capsflow/core/types.hpp"
 
 namespace capsflow {
@@ -18,5 +21,19 @@ void volume_gradient(const Points& x, const Triangles& tri, Points& a);
 void remove_normal_flux(const Points& a, Points& v);
 // Moves x along a/|a| until |V − target| ≤ 1e-14 target (≤ 3 Newton steps); returns |δ| summed.
 double project_volume(Points& x, const Triangles& tri, double target, Points& scratch);
+
+// project_volume on each surface of a set, onto its own target (several capsules: each keeps its
+// volume, not only their sum). Returns |δ| summed over the surfaces.
+class VolumeProjection {
+ public:
+  VolumeProjection(const SurfaceSet& surfaces, std::vector<double> targets);
+  double apply(Points& x);
+
+ private:
+  std::vector<SurfacePart> parts_;
+  std::vector<Triangles> triangles_;  // each surface's, in its own numbering
+  std::vector<double> targets_;
+  Points part_, scratch_;
+};
 
 }  // namespace capsflow

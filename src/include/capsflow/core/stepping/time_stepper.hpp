@@ -9,8 +9,10 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 #include <nlohmann/json_fwd.hpp>
 
+#include "capsflow/core/geometry/surface_set.hpp"
 #include "capsflow/core/rhs/right_hand_side.hpp"
 #include "capsflow/core/types.hpp"
 
@@ -90,5 +92,10 @@ class TimeStepper {
 // stabilised scheme projects onto with fluid.volume_correction (docs/time-integration.md §5.6).
 std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const TimePlan& plan, double tolerance,
                                                const Triangles& triangles, double volume0, const Points& x);
+// Several capsules (rhs/suspension_dynamics.hpp), one scene for all: the same scheme on the rows of
+// the union of `capsules`, its stiffness from the union's shortest edge (the stiffest capsule's),
+// each capsule's volume projected onto its own volumes0[k].
+std::unique_ptr<TimeStepper> make_time_stepper(const Scene& scene, const TimePlan& plan, double tolerance,
+                                               const SurfaceSet& capsules, std::vector<double> volumes0, const Points& x);
 
 }  // namespace capsflow
