@@ -1,6 +1,7 @@
 """capsflow: an elastic capsule freely suspended in Stokes flow, from Python (docs/python.md).
 
     capsflow.fmm                      Stokeslet and stresslet sums on numpy arrays (FMM and direct)
+    capsflow.bie.single_layer         the single layer over several surfaces, at their nodes
     capsflow.Scene                    a scene: from a file, TOML text or a dict; set(key, value); to_toml()
     capsflow.run(scene, out)          a run, as `capsflow run` (same folder); the results as a RunFolder
     capsflow.Simulation(scene, out)   a run step by step: step(), t, positions, velocity(), checkpoint(path)
@@ -19,7 +20,7 @@ _os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 try:
     from . import _core  # noqa: E402  (after the environment above)
-    from . import fmm  # noqa: E402
+    from . import bie, fmm  # noqa: E402
     from .results import RunFolder, StudyFolder, read_run, read_study  # noqa: E402
     from .simulation import Progress, Simulation, SolverError, run  # noqa: E402
     from .scene import Scene  # noqa: E402
@@ -37,5 +38,5 @@ except ImportError as _error:
         f"-DPython_EXECUTABLE={_sys.executable} (an interpreter with numpy and pybind11)") from _error
 
 __version__ = _core.__version__
-__all__ = ["fmm", "Scene", "run", "Simulation", "SolverError", "Progress", "read_run", "read_study", "RunFolder",
+__all__ = ["bie", "fmm", "Scene", "run", "Simulation", "SolverError", "Progress", "read_run", "read_study", "RunFolder",
            "StudyFolder", "__version__"]

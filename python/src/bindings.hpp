@@ -8,6 +8,8 @@ namespace capsflow::python {
 void bind_errors(pybind11::module_& m);
 // Stokeslet sums, the reusable FMM, the finiteness scan (fmm_bindings.cpp).
 void bind_fmm(pybind11::module_& m);
+// The single layer over several surfaces (bie_bindings.cpp).
+void bind_bie(pybind11::module_& m);
 // Scenes: parse, load, resolve, write back (scene_bindings.cpp).
 void bind_scene(pybind11::module_& m);
 

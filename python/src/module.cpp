@@ -12,6 +12,7 @@ PYBIND11_MODULE(_core, m) {
   spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug|trace, as the command line reads it
   capsflow::python::bind_errors(m);
   capsflow::python::bind_fmm(m);
+  capsflow::python::bind_bie(m);
   capsflow::python::bind_scene(m);
   capsflow::python::bind_run(m);
 }
