@@ -35,12 +35,15 @@ int main(int argc, char** argv) {
   CLI::App app{"two capsules meeting in simple shear"};
   int level = 2, threads = 0;
   double offset = 1.0, half_distance = 3.0, every = 0.5, t_end = 0;
+  ContactRepulsion contact;
   std::vector<std::string> sets;
   app.add_option("--level", level, "icosahedron level of each capsule");
   app.add_option("--offset", offset, "initial cross-stream offset δ of the centres (radii)");
   app.add_option("--half-distance", half_distance, "initial streamwise half-distance d (radii)");
   app.add_option("--t-end", t_end, "end time (0: 4d/δ, when the pair is as far apart as it started)");
   app.add_option("--every", every, "report interval of t");
+  app.add_option("--repulsion-range", contact.range, "ContactRepulsion range in element sizes (0: off)");
+  app.add_option("--repulsion-strength", contact.strength, "ContactRepulsion strength (flow units)");
   app.add_option("--set", sets, "scene keys, KEY=VALUE (as capsflow run --set)");
   app.add_option("--threads", threads, "OpenMP threads (0: all)");
   CLI11_PARSE(app, argc, argv);
@@ -57,7 +60,7 @@ int main(int argc, char** argv) {
     return m;
   };
   const SurfaceSet set({placed(Vec3(-half_distance, offset / 2, 0)), placed(Vec3(half_distance, -offset / 2, 0))});
-  SuspensionDynamics f(scene, set);
+  SuspensionDynamics f(scene, set, 0, contact);
   const TimePlan plan = resolve_time_plan(scene, ref);
   const double tolerance = plan.tolerance;
   const double v0 = enclosed_volume(ref);
@@ -104,6 +107,7 @@ int main(int argc, char** argv) {
                                     {"level", level},
                                     {"elements_per_capsule", ref.num_elements()},
                                     {"set", sets},
+                                    {"repulsion", {contact.range, contact.strength}},
                                     {"scheme", to_string(plan.scheme)},
                                     {"tolerance", tolerance},
                                     {"t_end", t},

@@ -100,6 +100,7 @@ void CrossNearField::find_pairs(const Points& x) {
   closest_ = SurfaceGap{};
   inside_nodes_ = 0;
   deepest_inside_ = SurfaceGap{};
+  nearest_.clear();
   pair_node_.clear();
   pair_begin_.assign(1, 0);
   pair_element_.clear();
@@ -136,6 +137,7 @@ void CrossNearField::find_pairs(const Points& x) {
           found.emplace_back(i, e);
           if (d < nearest.distance) nearest = {d / h, d, j, k, i, e, d == 0 || (p - foot).dot((b - a).cross(c - a)) < 0};
         }
+        if (nearest.node >= 0) nearest_.push_back(nearest);
         if (nearest.inside) {
           ++inside_nodes_;
           if (deepest_inside_.node < 0 || nearest.distance > deepest_inside_.distance) deepest_inside_ = nearest;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "capsflow/core/bie/point_triangle.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/rhs/volume_constraint.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
@@ -20,11 +21,16 @@ SurfaceMesh part_mesh(const SurfaceSet& set, int k) {
 }
 }  // namespace
 
-SuspensionDynamics::SuspensionDynamics(const Scene& scene, const SurfaceSet& capsules, int threads)
+SuspensionDynamics::SuspensionDynamics(const Scene& scene, const SurfaceSet& capsules, int threads,
+                                       ContactRepulsion contact)
     : set_(capsules),
       L_(scene.flow.gradient),
       volume_correction_(scene.fluid.volume_correction),
-      bie_(capsules, boundary_integral_options(scene, threads)) {
+      bie_(capsules, boundary_integral_options(scene, threads)),
+      contact_(contact) {
+  if (!(contact.range >= 0 && contact.range <= kCrossNearRatio) || !(contact.strength >= 0))
+    throw std::invalid_argument("several capsules: the repulsion's range must be in [0, 3] element sizes and its "
+                                "strength >= 0");
   if (scene.fluid.viscosity_ratio != 1.0)
     throw std::invalid_argument("several capsules: fluid.viscosity_ratio must be 1 (the double layer over several "
                                 "surfaces is not implemented)");
@@ -32,6 +38,29 @@ SuspensionDynamics::SuspensionDynamics(const Scene& scene, const SurfaceSet& cap
   for (int k = 0; k < set_.size(); ++k) walls_.emplace_back(scene, part_mesh(set_, k));
   x_part_.resize(static_cast<std::size_t>(set_.size()));
   q_.resize(set_.mesh().num_nodes(), 3);
+}
+
+void SuspensionDynamics::repulsion(const Points& x) {
+  bie_.find_pairs(x);
+  contact_force_.setZero(x.rows(), 3);
+  const Triangles& tri = set_.mesh().triangles;
+  for (const SurfaceGap& g : bie_.cross().nearest()) {  // in node order: the same sums on every call
+    if (g.inside || !(g.distance > 0)) continue;  // crossed: the evaluation fails below
+    const double reach = contact_.range * (g.distance / g.ratio);  // range × the element's size
+    if (g.distance >= reach) continue;
+    const Vec3 p = x.row(g.node).transpose();
+    const Vec3 a = x.row(tri(g.element, 0)).transpose(), b = x.row(tri(g.element, 1)).transpose(),
+               c = x.row(tri(g.element, 2)).transpose();
+    const Vec3 foot = closest_point_on_triangle(p, a, b, c);
+    const double s = 1 - g.distance / reach;
+    const Vec3 F = (contact_.strength * s * s / g.distance) * (p - foot);
+    // The foot's barycentric weights (areas of the sub-triangles opposite each vertex).
+    const Vec3 n = (b - a).cross(c - a);
+    const double w0 = (b - foot).cross(c - foot).dot(n) / n.squaredNorm(), w1 = (c - foot).cross(a - foot).dot(n) / n.squaredNorm();
+    const double w[3] = {w0, w1, 1 - w0 - w1};
+    contact_force_.row(g.node) += F.transpose();
+    for (int v = 0; v < 3; ++v) contact_force_.row(tri(g.element, v)) -= w[v] * F.transpose();
+  }
 }
 
 PhaseTimes SuspensionDynamics::times() const {
@@ -44,15 +73,18 @@ void SuspensionDynamics::evaluate(const Points& x, Points& v, const EvaluationHi
   if (x.rows() != set_.mesh().num_nodes())
     throw std::invalid_argument("several capsules: positions must have one row per node of every capsule");
   Stopwatch clock;
+  const bool contact = contact_.range > 0 && set_.size() > 1;
+  if (contact) repulsion(x);
   for (int k = 0; k < set_.size(); ++k) {
     const SurfacePart& p = set_.part(k);
     Points& xk = x_part_[static_cast<std::size_t>(k)];
     xk = x.middleRows(p.node_begin, p.nodes);
     WallAndLoad& w = walls_[static_cast<std::size_t>(k)];
-    w.solve(xk, hint, counters_, times_, clock);
+    if (contact) contact_part_ = contact_force_.middleRows(p.node_begin, p.nodes);
+    w.solve(xk, hint, counters_, times_, clock, contact ? &contact_part_ : nullptr);
     q_.middleRows(p.node_begin, p.nodes) = w.load();
   }
-  bie_.apply(x, q_, u_);
+  bie_.apply(x, q_, u_, contact);
   if (bie_.cross().inside_nodes() > 0) {  // surfaces that crossed: no velocity of a state that cannot be
     const SurfaceGap& g = bie_.cross().deepest_inside();
     throw SolverFailure(fmt::format("capsules {} and {} overlap: {} node(s) of one inside the other, node {} of capsule {} "

@@ -10,7 +10,7 @@ WallAndLoad::WallAndLoad(const Scene& scene, const SurfaceMesh& reference, std::
     : wall_(wall ? std::move(wall) : make_wall(scene, reference)), mass_(reference.triangles, reference.num_nodes()) {}
 
 void WallAndLoad::solve(const Points& x, const EvaluationHint& hint, RhsCounters& counters, PhaseTimes& times,
-                        Stopwatch& clock) {
+                        Stopwatch& clock, const Points* extra_force) {
   SolveCounts& by_kind = counters.by_kind[static_cast<std::size_t>(evaluation_kind(hint))];
   ++by_kind.evaluations;
   shell::Wall::WarmStart warm;
@@ -35,6 +35,7 @@ void WallAndLoad::solve(const Points& x, const EvaluationHint& hint, RhsCounters
     ++counters.rotation_fresh_starts;
     wall_->restart_rotations(x);
   }
+  if (extra_force) R_ -= *extra_force;  // R_s = ∂E/∂x: a force f on the nodes enters as −f
   clock.lap(times, Phase::Wall);
 
   counters.mass_cg_iterations += mass_.solve(x, R_, q_);

@@ -178,6 +178,36 @@ TEST(Suspension, UnderErrorControlTwoCapsulesFarApartFollowOneAloneAndEachKeepsI
   }
 }
 
+// The repulsion (ContactRepulsion): within its range it pushes the capsules apart, and every pair's
+// force and torque cancel, so the total force and torque on all nodes are zero (to round-off,
+// 1e-14 of the largest nodal force). Off by default: nothing is added.
+TEST(Suspension, TheRepulsionPushesApartWithoutNetForceOrTorque) {
+  const Scene s = scene_with({"mesh.level=2", "wall.model=\"membrane\"", "wall.law=\"nh\""});
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  const double extent = ref.vertices.col(0).maxCoeff() - ref.vertices.col(0).minCoeff();
+  const SurfaceSet set({ref, shifted(ref, Vec3(1.03 * extent, 0.1, 0))});
+  const EvaluationHint hint{EvaluationHint::Role::Trajectory, 0};
+  Points v;
+  SuspensionDynamics off(s, set);
+  off.evaluate(set.mesh().vertices, v, hint);
+  EXPECT_EQ(off.contact_forces().size(), 0) << "no repulsion unless asked";
+  SuspensionDynamics on(s, set, 0, ContactRepulsion{2.0, 0.1});
+  on.evaluate(set.mesh().vertices, v, hint);
+  const Points& F = on.contact_forces();
+  const double largest = max_row_norm(F);
+  ASSERT_GT(largest, 0);
+  const Points& x = set.mesh().vertices;
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero(), on_first = Vec3::Zero();
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    force += F.row(i).transpose();
+    torque += Vec3(x.row(i).transpose()).cross(Vec3(F.row(i).transpose()));
+    if (i < ref.num_nodes()) on_first += F.row(i).transpose();
+  }
+  EXPECT_LT(force.norm(), 1e-14 * largest * x.rows());
+  EXPECT_LT(torque.norm(), 1e-14 * largest * x.rows() * max_row_norm(x));
+  EXPECT_LT(on_first.x(), 0) << "capsule 0 is pushed away from capsule 1 (on its +x side)";
+}
+
 TEST(Suspension, RefusesAViscosityRatioOtherThanOne) {
   const Scene s = scene_with({"mesh.level=1", "fluid.viscosity_ratio=5"});
   const SurfaceMesh ref = make_reference_mesh(s.mesh);

@@ -45,6 +45,8 @@ class CrossNearField {
   std::size_t inside_nodes() const { return inside_nodes_; }
   const SurfaceGap& deepest_inside() const { return deepest_inside_; }  // the farthest of them from the surface
   std::size_t pairs() const { return pair_element_.size(); }
+  // Per node near another surface, its nearest element there (one entry per node and surface).
+  const std::vector<SurfaceGap>& nearest() const { return nearest_; }
   double near_ratio() const { return near_ratio_; }
 
  private:
@@ -58,6 +60,7 @@ class CrossNearField {
   SurfaceGap closest_;
   std::size_t inside_nodes_ = 0;
   SurfaceGap deepest_inside_;
+  std::vector<SurfaceGap> nearest_;
 };
 
 }  // namespace capsflow

@@ -16,8 +16,11 @@ class MultiSurfaceSingleLayer {
   explicit MultiSurfaceSingleLayer(const SurfaceSet& set, const SingleLayerOptions& opt = {},
                                    double near_ratio = kCrossNearRatio);
 
-  // u at every row of x (the union's positions; q its load), resized to the union's nodes.
-  void apply(const Points& x, const Points& q, Points& u);
+  // u at every row of x (the union's positions; q its load), resized to the union's nodes. With
+  // `pairs_found`, the cross pairs of find_pairs(x), called before on the same x, are used.
+  void apply(const Points& x, const Points& q, Points& u, bool pairs_found = false);
+  // The cross-surface search alone (cross()), e.g. for contact forces before the loads are known.
+  void find_pairs(const Points& x) { cross_.find_pairs(x); }
 
   const SingleLayer& layer() const { return layer_; }
   const CrossNearField& cross() const { return cross_; }

@@ -24,11 +24,23 @@
 
 namespace capsflow {
 
+// A short-range repulsion between capsules (off by default): a node closer than `range` sizes of
+// its nearest element of another capsule (range ≤ 3, the cross search's reach) is pushed away from
+// it with the nodal force strength · (1 − d/(range h))² (flow units μγ̇a²), along the line from the
+// element's nearest point to the node; that point's element takes the opposite force, shared among
+// its vertices by its barycentric weights. Force and torque of every pair sum to zero: the capsules'
+// momentum balance is untouched. Applied to the walls (WallAndLoad: R_s − f) before M q = R_s.
+struct ContactRepulsion {
+  double range = 0;  // element sizes; 0: off
+  double strength = 1;
+};
+
 class SuspensionDynamics final : public RightHandSide {
  public:
   // One scene for every capsule (wall, flow and fluid keys); `capsules` holds their reference
-  // surfaces, placed where they start. Throws std::invalid_argument at a viscosity ratio ≠ 1.
-  SuspensionDynamics(const Scene& scene, const SurfaceSet& capsules, int threads = 0);
+  // surfaces, placed where they start. Throws std::invalid_argument at a viscosity ratio ≠ 1, or a
+  // repulsion range outside [0, 3] or a negative strength.
+  SuspensionDynamics(const Scene& scene, const SurfaceSet& capsules, int threads = 0, ContactRepulsion contact = {});
 
   void evaluate(const Points& x, Points& v, const EvaluationHint& hint) override;
 
@@ -37,15 +49,21 @@ class SuspensionDynamics final : public RightHandSide {
   shell::Wall& wall(int k) { return walls_.at(static_cast<std::size_t>(k)).wall(); }
   const MultiSurfaceSingleLayer& single_layer() const { return bie_; }
   const RhsCounters& counters() const { return counters_; }
+  // The repulsion's nodal forces of the last evaluation (union rows; empty when off).
+  const Points& contact_forces() const { return contact_force_; }
   PhaseTimes times() const;
 
  private:
+  void repulsion(const Points& x);  // contact_force_ from the cross search on x
+
   SurfaceSet set_;
   Mat3 L_;
   bool volume_correction_;
   std::vector<WallAndLoad> walls_;
   MultiSurfaceSingleLayer bie_;
+  ContactRepulsion contact_;
   std::vector<Points> x_part_;                  // each capsule's rows of x, for its wall
+  Points contact_force_, contact_part_;
   Points q_, u_, area_normal_, part_a_, part_v_;  // scratch, reused across calls
   PhaseTimes times_;
   RhsCounters counters_;

@@ -19,8 +19,11 @@ class WallAndLoad {
   WallAndLoad(const Scene& scene, const SurfaceMesh& reference, std::unique_ptr<shell::Wall> wall = nullptr);
 
   // The load q at x (load()), counted in `counters` under the hint's kind; the seconds since
-  // `clock`'s last lap go to Phase::Wall, the mass solve's to Phase::Load of `times`.
-  void solve(const Points& x, const EvaluationHint& hint, RhsCounters& counters, PhaseTimes& times, Stopwatch& clock);
+  // `clock`'s last lap go to Phase::Wall, the mass solve's to Phase::Load of `times`. A given
+  // `extra_force` (nodal forces applied to the wall from outside, e.g. a repulsion) enters
+  // R_s = ∂E/∂x as −extra_force before M q = R_s.
+  void solve(const Points& x, const EvaluationHint& hint, RhsCounters& counters, PhaseTimes& times, Stopwatch& clock,
+             const Points* extra_force = nullptr);
 
   const Points& load() const { return q_; }
   void set_load(Points q) { q_ = std::move(q); }
