@@ -3,7 +3,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -108,14 +110,18 @@ void CrossNearField::find_pairs(const Points& x) {
   if (K < 2 || near_ratio_ == 0) return;
   std::vector<Box> box(static_cast<std::size_t>(K));
   std::vector<double> hmax(static_cast<std::size_t>(K), 0.0);
+  element_size_.resize(static_cast<std::size_t>(tri_.rows()));
   for (int k = 0; k < K; ++k) {
     const SurfacePart& p = parts_[static_cast<std::size_t>(k)];
     for (Eigen::Index i = p.node_begin; i < p.node_begin + p.nodes; ++i) box[static_cast<std::size_t>(k)].add(node(x, i));
-    for (Eigen::Index e = p.element_begin; e < p.element_begin + p.elements; ++e)
-      hmax[static_cast<std::size_t>(k)] = std::max(hmax[static_cast<std::size_t>(k)], longest_edge(x, tri_, e));
+    for (Eigen::Index e = p.element_begin; e < p.element_begin + p.elements; ++e) {
+      element_size_[static_cast<std::size_t>(e)] = longest_edge(x, tri_, e);
+      hmax[static_cast<std::size_t>(k)] = std::max(hmax[static_cast<std::size_t>(k)], element_size_[static_cast<std::size_t>(e)]);
+    }
   }
-  std::vector<std::pair<Eigen::Index, int>> found;  // (node, element)
-  std::vector<int> cand;
+  std::vector<std::pair<Eigen::Index, int>>& found = found_;
+  std::vector<int>& cand = candidates_;
+  found.clear();
   for (int k = 0; k < K; ++k) {
     const double reach = near_ratio_ * hmax[static_cast<std::size_t>(k)];
     std::optional<CentroidCells> cells;  // built when a surface comes near k
@@ -130,7 +136,7 @@ void CrossNearField::find_pairs(const Points& x) {
         SurfaceGap nearest;  // of node i to surface k
         for (int e : cand) {
           const Vec3 a = node(x, tri_(e, 0)), b = node(x, tri_(e, 1)), c = node(x, tri_(e, 2));
-          const double h = longest_edge(x, tri_, e);
+          const double h = element_size_[static_cast<std::size_t>(e)];
           const Vec3 foot = closest_point_on_triangle(p, a, b, c);
           const double d = (p - foot).norm();
           if (!(d < near_ratio_ * h)) continue;

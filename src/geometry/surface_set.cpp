@@ -31,6 +31,16 @@ SurfaceSet::SurfaceSet(const std::vector<SurfaceMesh>& parts) {
   }
 }
 
+Triangles SurfaceSet::local_triangles(int k) const {
+  const SurfacePart& p = part(k);
+  return union_.triangles.middleRows(p.element_begin, p.elements).array() - static_cast<int>(p.node_begin);
+}
+
+SurfaceMesh SurfaceSet::part_mesh(const Points& x, int k) const {
+  const SurfacePart& p = part(k);
+  return {x.middleRows(p.node_begin, p.nodes), local_triangles(k)};
+}
+
 int SurfaceSet::part_of_node(Eigen::Index node) const {
   if (node < 0 || node >= union_.num_nodes()) throw std::out_of_range(fmt::format("surface set: no node {}", node));
   const auto it = std::upper_bound(parts_.begin(), parts_.end(), node,

@@ -12,14 +12,6 @@
 
 namespace capsflow {
 
-namespace {
-SurfaceMesh part_mesh(const SurfaceSet& set, int k) {
-  const SurfacePart& p = set.part(k);
-  SurfaceMesh m{set.mesh().vertices.middleRows(p.node_begin, p.nodes),
-                set.mesh().triangles.middleRows(p.element_begin, p.elements).array() - static_cast<int>(p.node_begin)};
-  return m;
-}
-}  // namespace
 
 SuspensionDynamics::SuspensionDynamics(const Scene& scene, const SurfaceSet& capsules, int threads,
                                        ContactRepulsion contact)
@@ -35,7 +27,7 @@ SuspensionDynamics::SuspensionDynamics(const Scene& scene, const SurfaceSet& cap
     throw std::invalid_argument("several capsules: fluid.viscosity_ratio must be 1 (the double layer over several "
                                 "surfaces is not implemented)");
   walls_.reserve(static_cast<std::size_t>(set_.size()));
-  for (int k = 0; k < set_.size(); ++k) walls_.emplace_back(scene, part_mesh(set_, k));
+  for (int k = 0; k < set_.size(); ++k) walls_.emplace_back(scene, set_.part_mesh(set_.mesh().vertices, k));
   x_part_.resize(static_cast<std::size_t>(set_.size()));
   q_.resize(set_.mesh().num_nodes(), 3);
 }
@@ -46,7 +38,7 @@ void SuspensionDynamics::repulsion(const Points& x) {
   const Triangles& tri = set_.mesh().triangles;
   for (const SurfaceGap& g : bie_.cross().nearest()) {  // in node order: the same sums on every call
     if (g.inside || !(g.distance > 0)) continue;  // crossed: the evaluation fails below
-    const double reach = contact_.range * (g.distance / g.ratio);  // range × the element's size
+    const double reach = contact_.range * bie_.cross().element_size(g.element);
     if (g.distance >= reach) continue;
     const Vec3 p = x.row(g.node).transpose();
     const Vec3 a = x.row(tri(g.element, 0)).transpose(), b = x.row(tri(g.element, 1)).transpose(),

@@ -47,10 +47,8 @@ VolumeProjection::VolumeProjection(const SurfaceSet& surfaces, std::vector<doubl
   if (static_cast<int>(targets_.size()) != surfaces.size())
     throw std::invalid_argument("volume projection: one target volume per surface");
   for (int k = 0; k < surfaces.size(); ++k) {
-    const SurfacePart& p = surfaces.part(k);
-    parts_.push_back(p);
-    triangles_.push_back(surfaces.mesh().triangles.middleRows(p.element_begin, p.elements).array() -
-                         static_cast<int>(p.node_begin));
+    parts_.push_back(surfaces.part(k));
+    triangles_.push_back(surfaces.local_triangles(k));
   }
 }
 

@@ -5,6 +5,7 @@
 // far-field terms replaced by the adaptive integral (quadrature.hpp), the way the self near field
 // replaces them on a surface's own elements. The search also finds the smallest gap.
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "capsflow/core/bie/single_layer.hpp"
@@ -48,6 +49,7 @@ class CrossNearField {
   // Per node near another surface, its nearest element there (one entry per node and surface).
   const std::vector<SurfaceGap>& nearest() const { return nearest_; }
   double near_ratio() const { return near_ratio_; }
+  double element_size(Eigen::Index e) const { return element_size_[static_cast<std::size_t>(e)]; }  // longest edge, at the last search
 
  private:
   std::vector<SurfacePart> parts_;
@@ -57,6 +59,9 @@ class CrossNearField {
   std::vector<Eigen::Index> pair_node_;     // nodes with pairs, ascending
   std::vector<std::size_t> pair_begin_;     // their pairs: [pair_begin_[k], pair_begin_[k + 1])
   std::vector<int> pair_element_;           // per node in ascending element order
+  std::vector<double> element_size_;              // per element of the union: its longest edge
+  std::vector<std::pair<Eigen::Index, int>> found_;  // scratch of find_pairs: (node, element)
+  std::vector<int> candidates_;
   SurfaceGap closest_;
   std::size_t inside_nodes_ = 0;
   SurfaceGap deepest_inside_;

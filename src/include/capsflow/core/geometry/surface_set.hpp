@@ -23,6 +23,10 @@ class SurfaceSet {
   int size() const { return static_cast<int>(parts_.size()); }
   const SurfacePart& part(int k) const { return parts_.at(static_cast<std::size_t>(k)); }
   const SurfaceMesh& mesh() const { return union_; }  // the parts' positions as given
+  // Surface k on its own: its triangles in its own node numbering, and its mesh at positions x
+  // (the union's rows).
+  Triangles local_triangles(int k) const;
+  SurfaceMesh part_mesh(const Points& x, int k) const;
   int part_of_node(Eigen::Index node) const;
   int part_of_element(Eigen::Index element) const;
 
