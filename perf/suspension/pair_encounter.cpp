@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
       continue;
     }
     t += a.dt, ++steps;
-    const SurfaceGap& g = f.single_layer().closest();
+    const SurfaceGap& g = f.layers().closest();
     if (g.ratio < min_gap) min_gap = g.ratio, min_gap_distance = g.distance;
     if (t >= next_report * (1 - 1e-12)) {
       const Vec3 d = offsets();

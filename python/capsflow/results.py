@@ -39,6 +39,16 @@ def read_timeseries(path: Path) -> dict[str, np.ndarray]:
     return cols
 
 
+# The columns of a one-capsule timeseries.csv that are the run's rather than the capsule's
+# (docs/scene-and-output.md §3.4); every other column has a 'c<k>.' counterpart with several capsules.
+_RUN_COLUMNS = {"t", "step", "dt", "steady_measure", "wall_seconds", "gmres_per_eval"}
+_RUN_COLUMN_PREFIXES = ("far_field_check_", "double_layer_far_field_check_")
+
+
+def _is_run_column(name: str) -> bool:
+    return name in _RUN_COLUMNS or name.startswith(_RUN_COLUMN_PREFIXES)
+
+
 def _metadata_value(value):
     """An entry of run.h5:/metadata as Python: JSON text of objects and arrays parsed, bytes decoded."""
     if isinstance(value, bytes):
@@ -64,6 +74,13 @@ class RunFolder:
     positions(k)  (N, 3) positions at step k (negative k counts from the end)
     field(name, k) a nodal field stored at step k ('velocity', 'load', 'E_membrane', ...)
     metadata      run.h5:/metadata as a dict (JSON texts parsed)
+    Several capsules (docs/scene-and-output.md §3.2, §3.4) are one union mesh; capsule k = 1 … K:
+    capsules      K: from run.h5:/mesh/parts, 1 without it (a run of one capsule)
+    capsule_timeseries(k)     {column: array} of capsule k's columns of timeseries.csv, without
+                              their 'c<k>.' prefix ('D12', 'centroid1', health columns, ...)
+    capsule_triangles(k)      (M_k, 3) int32 triangles of capsule k, indexing its own nodes
+    capsule_positions(k, step)    (N_k, 3) capsule k's rows of positions(step)
+    capsule_field(name, k, step)  capsule k's rows of field(name, step)
     Every array is a new array read from disk (a copy: changing it changes no file).
     """
 
@@ -108,17 +125,21 @@ class RunFolder:
         with self._h5() as f:
             return f["mesh/reference_positions"][()]
 
+    def _field(self, f, name: str, k: int, rows: slice | None = None) -> np.ndarray:
+        """Field `name` of step k in the open run.h5 `f`: all rows, or the slice `rows`."""
+        names = self._step_names(f)
+        if not names:
+            raise IndexError(f"{self.folder}/run.h5 holds no step yet")
+        step = f["steps"][names[k]]
+        if name not in step:
+            stored = ", ".join(sorted(step.keys()))
+            raise KeyError(f"step {names[k]} has no field {name!r} (stored: {stored})")
+        return step[name][()] if rows is None else step[name][rows]
+
     def field(self, name: str, k: int = -1) -> np.ndarray:
         """Nodal field `name` of step k ('positions', or a field of the scene's output.fields)."""
         with self._h5() as f:
-            names = self._step_names(f)
-            if not names:
-                raise IndexError(f"{self.folder}/run.h5 holds no step yet")
-            step = f["steps"][names[k]]
-            if name not in step:
-                stored = ", ".join(sorted(step.keys()))
-                raise KeyError(f"step {names[k]} has no field {name!r} (stored: {stored})")
-            return step[name][()]
+            return self._field(f, name, k)
 
     def positions(self, k: int = -1) -> np.ndarray:
         """(N, 3) positions at step k (negative: from the end)."""
@@ -134,6 +155,65 @@ class RunFolder:
                 if hasattr(item, "shape"):  # a dataset (the sub-group 'restarts' is not)
                     meta[k] = _metadata_value(item[()])
             return meta
+
+    # -- several capsules ----------------------------------------------------------------------
+
+    @staticmethod
+    def _parts(f) -> tuple[np.ndarray, np.ndarray]:
+        """(node_offsets, element_offsets), K + 1 each: /mesh/parts, else the whole mesh as one part."""
+        if "mesh/parts" in f:
+            return (f["mesh/parts/node_offsets"][()].astype(np.int64),
+                    f["mesh/parts/element_offsets"][()].astype(np.int64))
+        return (np.array([0, f["mesh/reference_positions"].shape[0]], dtype=np.int64),
+                np.array([0, f["mesh/triangles"].shape[0]], dtype=np.int64))
+
+    def _check_capsule(self, k, count: int) -> int:
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise TypeError(f"capsule number k={k!r} is not an integer (capsules are numbered 1 … {count})")
+        if not 1 <= k <= count:
+            noun = "capsule" if count == 1 else "capsules"
+            raise ValueError(f"no capsule k={k}: the run has {count} {noun}, numbered 1 … {count}")
+        return int(k)
+
+    @property
+    def capsules(self) -> int:
+        """K, the number of capsules: from run.h5:/mesh/parts, 1 without it."""
+        with self._h5() as f:
+            return len(self._parts(f)[0]) - 1
+
+    def capsule_timeseries(self, k: int) -> dict[str, np.ndarray]:
+        """Capsule k's columns of timeseries.csv (k = 1 … K), named without their 'c<k>.' prefix:
+        D12 … centroid3, E_membrane … E_shear, D_flow, theta, tank_treading and its health columns.
+        With one capsule, the unprefixed columns that are the capsule's (all but t, step, dt,
+        steady_measure, wall_seconds and the run's solver checks). The times are timeseries['t']."""
+        with self._h5() as f:
+            count = len(self._parts(f)[0]) - 1
+        k = self._check_capsule(k, count)
+        if count > 1:
+            prefix = f"c{k}."
+            return {name[len(prefix):]: col.copy() for name, col in self.timeseries.items()
+                    if name.startswith(prefix)}
+        return {name: col.copy() for name, col in self.timeseries.items() if not _is_run_column(name)}
+
+    def capsule_triangles(self, k: int) -> np.ndarray:
+        """(M_k, 3) int32 triangles of capsule k (k = 1 … K), indexing its own nodes 0 … N_k − 1
+        (rows of /mesh/parts/local_triangles; the mesh's triangles with one capsule)."""
+        with self._h5() as f:
+            nodes, elements = self._parts(f)
+            k = self._check_capsule(k, len(nodes) - 1)
+            name = "mesh/parts/local_triangles" if "mesh/parts" in f else "mesh/triangles"
+            return f[name][int(elements[k - 1]):int(elements[k])]
+
+    def capsule_field(self, name: str, k: int, step: int = -1) -> np.ndarray:
+        """Capsule k's rows (k = 1 … K) of the nodal field `name` at step `step` (as field())."""
+        with self._h5() as f:
+            nodes, _ = self._parts(f)
+            k = self._check_capsule(k, len(nodes) - 1)
+            return self._field(f, name, step, slice(int(nodes[k - 1]), int(nodes[k])))
+
+    def capsule_positions(self, k: int, step: int = -1) -> np.ndarray:
+        """(N_k, 3) positions of capsule k (k = 1 … K) at step `step` (negative: from the end)."""
+        return self.capsule_field("positions", k, step)
 
     def __repr__(self) -> str:
         return f"RunFolder({str(self.folder)!r}, stop_reason={self.stop_reason!r})"

@@ -12,13 +12,23 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+
 #include "capsflow/core/stepping/auto_tolerance.hpp"
 #include "simulation_impl.hpp"
 
 namespace capsflow {
 
 bool Simulation::Impl::wall_creased() const {
-  return health->folding() && health->last().roughness.facet_angle_max > kAutoToleranceCreaseDeg;
+  for (const CapsuleWatch& w : watch)  // any capsule's wall
+    if (w.health->folding() && w.health->last().roughness.facet_angle_max > kAutoToleranceCreaseDeg) return true;
+  return false;
+}
+
+double Simulation::Impl::largest_facet_angle() const {
+  double a = 0;
+  for (const CapsuleWatch& w : watch) a = std::max(a, w.health->last().roughness.facet_angle_max);
+  return a;
 }
 
 // Called after every accepted step, before its outputs and checkpoint.
@@ -42,7 +52,7 @@ void Simulation::Impl::follow_tolerance_in_force() {
   const std::string why =
       plan.at_creases == CreaseAction::Loosen
           ? fmt::format("the wall creases at the mesh scale (facet angles up to {:.0f}°); once formed, creases no longer "
-                        "amplify the error", health->last().roughness.facet_angle_max)
+                        "amplify the error", largest_facet_angle())
       : st.rewind ? fmt::format("past the creases, seen at {:.3g} in the discarded pass", st.rewind->t)
                   : std::string("the wall creases at the mesh scale");
   spdlog::info("γ̇t = {:.3g}: {}: time.tolerance goes from {:g} to {:g} (docs/time-integration.md §5.3, §5.4)", st.t, why,
@@ -63,7 +73,7 @@ bool Simulation::Impl::rewind_to_start() {
   spdlog::warn("the wall creases at the mesh scale at γ̇t = {:.3g} (facet angles up to {:.0f}°): the run starts again from "
                "t = 0 at time.tolerance {:g} up to γ̇t = {:.3g} and {:g} after, since the error made before the folds is "
                "amplified while they form (docs/time-integration.md §5.3); {} steps, {} evaluations and {:.1f} s are discarded",
-               discarded.t, health->last().roughness.facet_angle_max, plan.crease_tolerance, discarded.t, plan.tolerance,
+               discarded.t, largest_facet_angle(), plan.crease_tolerance, discarded.t, plan.tolerance,
                discarded.steps, discarded.evaluations, discarded.seconds);
   // Everything a fresh run would start with; the run's cost so far stays counted.
   out.reset();
@@ -79,11 +89,10 @@ bool Simulation::Impl::rewind_to_start() {
   consecutive_rejections = 0;
   consecutive_solver_failures = 0;
   last_output_t = -1;
-  last_tank_treading = std::numeric_limits<double>::quiet_NaN();
   output_mark = RhsCounters{};
   make_parts();
   start_at_reference();
-  out = std::make_unique<io::ResultsWriter>(folder, ref, metadata());
+  out = new_results_writer();
   make_stepper();
   observe_health();
   effort_mark = dyn->counters();

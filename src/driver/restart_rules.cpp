@@ -40,6 +40,15 @@ void check_restart_overrides(const Scene& stored, const Scene& next, double t, l
   if (changed)
     refuse(fmt::format("--set {}: a restarted run keeps the mesh of its checkpoint ({} elements); start a new run to "
                        "change it", changed, elements));
+  const LayoutSpec &la = stored.layout, &lb = next.layout;
+  const char* moved = la.count != lb.count ? "layout.count"
+                      : la.dx != lb.dx     ? "layout.dx"
+                      : la.dy != lb.dy     ? "layout.dy"
+                      : la.dz != lb.dz     ? "layout.dz"
+                                           : nullptr;
+  if (moved)
+    refuse(fmt::format("--set {}: a restarted run keeps the capsules of its checkpoint where they are; start a new run to "
+                       "place them otherwise", moved));
   if (stored.wall.model != next.wall.model)
     refuse(fmt::format("--set wall.model: the checkpoint holds the state of a {} wall; a restart cannot switch it to {} "
                        "(start a new run)", to_string(stored.wall.model), to_string(next.wall.model)));
@@ -86,7 +95,8 @@ RestartPlan plan_restart(const io::CheckpointState& ck, const fs::path& checkpoi
   {  // a folder written before the flow-plane columns (D_flow, theta, tank_treading) cannot take today's rows
     std::ifstream csv(plan.folder / io::kTimeseriesCsv);
     std::string header;
-    if (csv && std::getline(csv, header) && !header.empty() && ("," + header + ",").find(",theta,") == std::string::npos)
+    if (csv && std::getline(csv, header) && !header.empty() && ("," + header + ",").find(",theta,") == std::string::npos &&
+        ("," + header + ",").find(",c1.theta,") == std::string::npos)
       refuse(q + "/timeseries.csv was written by an older capsflow, without the columns D_flow, theta and tank_treading; "
              "continue into a new or empty folder with -o NEW");
   }

@@ -77,7 +77,7 @@ std::optional<StopReason> Simulation::Impl::step() {
 // were rejected in a row.
 std::optional<StopReason> Simulation::Impl::attempt_step(StepAttempt& a) {
   x_prev = st.x;
-  wall_prev = dyn->wall().state();  // to roll back a blown-up step
+  wall_prev = wall_state();  // to roll back a blown-up step
   double dt = 0;
   try {
     dt = stepper->next_step(*dyn, st.x, {st.t, time_to_stop(), st.step});
@@ -127,7 +127,7 @@ std::optional<StopReason> Simulation::Impl::check_step(const StepAttempt& a) {
 
 void Simulation::Impl::roll_back() {
   st.x = x_prev;
-  dyn->wall().set_state(wall_prev);
+  set_wall_state(wall_prev);
   stepper->forget_state();  // F(x) may belong to the discarded state
 }
 
@@ -191,10 +191,20 @@ std::optional<StopReason> Simulation::Impl::observe_health() {
   }
   effort_mark = n;
   std::optional<StopReason> stop_on;
-  for (const HealthEvent& e : health->observe(st.t, st.x, effort)) {
+  const auto report = [&](const HealthEvent& e, const std::string& whose) {
     const bool stops = std::find(scene.time.stop_on.begin(), scene.time.stop_on.end(), e.condition) != scene.time.stop_on.end();
-    spdlog::warn("{}: {}{}", to_string(e.condition), e.message, stops ? " — stopping (time.stop_on)" : "");
+    spdlog::warn("{}: {}{}{}", to_string(e.condition), whose, e.message, stops ? " — stopping (time.stop_on)" : "");
     if (stops && !stop_on) stop_on = StopReason::health(e.condition);
+  };
+  if (capsules() == 1) {
+    for (const HealthEvent& e : watch[0].health->observe(st.t, st.x, effort)) report(e, "");
+  } else {
+    for (int k = 0; k < capsules(); ++k) {
+      const SurfacePart& p = surfaces->part(k);
+      for (const HealthEvent& e : watch[static_cast<std::size_t>(k)].health->observe(st.t, st.x.middleRows(p.node_begin, p.nodes), effort))
+        report(e, fmt::format("capsule {}: ", k + 1));
+    }
+    if (const std::optional<HealthEvent> e = gap->observe(st.t, suspension->gaps_at(st.x).closest())) report(*e, "");
   }
   return stop_on;
 }
@@ -237,7 +247,7 @@ const SurfaceMesh& Simulation::reference() const { return impl_->ref; }
 const std::filesystem::path& Simulation::folder() const { return impl_->folder; }
 const Points& Simulation::load() const { return impl_->dyn->load(); }
 const Points& Simulation::velocity() { return impl_->state_velocity(); }
-const HealthMonitor& Simulation::health() const { return *impl_->health; }
+const HealthMonitor& Simulation::health() const { return *impl_->watch.at(0).health; }
 std::optional<StopReason> Simulation::stop_reason() const { return impl_->stopped; }
 void Simulation::write_checkpoint(const std::filesystem::path& path) { impl_->write_caller_checkpoint(path); }
 

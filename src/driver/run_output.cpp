@@ -56,21 +56,27 @@ void Simulation::Impl::update_far_checks() {
   if (const ViscosityRatioSolver* vr = dyn->viscosity_ratio_solver()) dl_far_check->update(vr->double_layer(), st.t);
 }
 
+void Simulation::Impl::measure_shapes(const Points& x, double t) {
+  for (int k = 0; k < capsules(); ++k) {
+    CapsuleWatch& w = watch[static_cast<std::size_t>(k)];
+    const SurfaceMesh cur = capsule_mesh(x, k);
+    w.last_shape = shape_diagnostics(cur);
+    w.last_plane_shape = in_plane_shape(cur, plane);
+    w.last_tank_treading = w.tank_treading->update(cur, t);
+  }
+}
+
 void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state) {
   folder_lock.check_held();  // a removed lock file: another writer may be here (io/folder_lock.hpp)
-  const SurfaceMesh cur{x, ref.triangles};
-  last_shape = shape_diagnostics(cur);
-  const auto& s = last_shape;
-  last_plane_shape = in_plane_shape(cur, plane);
-  last_tank_treading = tank_treading->update(cur, t);
+  measure_shapes(x, t);
   // Between steps: what the right-hand side carries to the next step is put back on the way out.
   struct PutBack {
-    CapsuleDynamics& dyn;
-    std::optional<CapsuleDynamics::Carry> carry;
+    CapsulesDynamics& dyn;
+    std::optional<CapsulesDynamics::Carry> carry;
     ~PutBack() {
       if (carry) dyn.restore(std::move(*carry));
     }
-  } put_back{*dyn, at_state ? std::nullopt : std::optional<CapsuleDynamics::Carry>(dyn->carry())};
+  } put_back{*dyn, at_state ? std::nullopt : std::optional<CapsulesDynamics::Carry>(dyn->carry())};
   // Each may throw SolverFailure: the shapes above are the output state's all the same.
   if (at_state) {
     state_velocity();
@@ -80,33 +86,72 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
   } else {
     dyn->solve_wall(x, {EvaluationHint::Role::Output, 0});  // loads and energies need no fluid
   }
-  const shell::WallEnergies en = dyn->wall().energies(x);
+  std::vector<shell::WallEnergies> en;
+  for (int k = 0; k < capsules(); ++k) en.push_back(dyn->wall_of(k).energies(capsules() == 1 ? x : capsule_mesh(x, k).vertices));
   io::NamedFields fields;
   if (scene.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out);
   if (scene.wants_field(OutputField::Load)) fields.emplace_back("load", dyn->load());
   if (scene.wants_field(OutputField::Energy)) {
-    Eigen::VectorXd Em, Eb, Esh;
-    dyn->wall().nodal_energy_maps(x, Em, Eb, Esh);
+    Eigen::VectorXd Em(x.rows()), Eb(x.rows()), Esh(x.rows()), em, eb, esh;
+    for (int k = 0; k < capsules(); ++k) {  // each wall's maps on its capsule's rows
+      const SurfacePart& p = surfaces->part(k);
+      dyn->wall_of(k).nodal_energy_maps(capsules() == 1 ? x : capsule_mesh(x, k).vertices, em, eb, esh);
+      Em.segment(p.node_begin, p.nodes) = em;
+      Eb.segment(p.node_begin, p.nodes) = eb;
+      Esh.segment(p.node_begin, p.nodes) = esh;
+    }
     fields.emplace_back("E_membrane", Em);
     fields.emplace_back("E_bending", Eb);
     fields.emplace_back("E_shear", Esh);
   }
   out->write_step(t, x, fields);
-  out->write_profiles(profiles_of(cur));
+  std::vector<io::PlaneProfile> planes;
+  for (int k = 0; k < capsules(); ++k)
+    for (io::PlaneProfile& p : profiles_of(capsule_mesh(x, k))) {
+      if (capsules() > 1) p.plane = fmt::format("capsule{}_{}", k + 1, p.plane);
+      planes.push_back(std::move(p));
+    }
+  out->write_profiles(planes);
   const Vec3 centroid = lab_centroid_at(t, x);
-  io::CsvRow row = {{"t", t}, {"step", static_cast<double>(st.step)}, {"dt", st.dt},
-                    {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
-                    {"Le1", s.Le[0]}, {"Le2", s.Le[1]}, {"Le3", s.Le[2]}, {"L1", s.L[0]}, {"L2", s.L[1]}, {"L3", s.L[2]},
-                    {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
-                    {"centroid1", centroid[0]}, {"centroid2", centroid[1]}, {"centroid3", centroid[2]},
-                    {"E_membrane", en.membrane}, {"E_bending", en.bending}, {"E_shear", en.shear},
-                    {"steady_measure", steady->measure()}, {"wall_seconds", wall_seconds()}};
-  for (const auto& [name, value] : health->columns()) row.emplace_back(name, value);
-  far_check->append_columns(row);     // fluid.verify_every > 0 only
-  dl_far_check->append_columns(row);  // ... and λ ≠ 1
-  // In the flow plane (docs/conventions.md §5.6): θ in degrees, the rotation rate per unit γ̇t.
-  row.insert(row.end(), {{"D_flow", last_plane_shape.D}, {"theta", last_plane_shape.theta * 180 / M_PI},
-                         {"tank_treading", last_tank_treading}});
+  io::CsvRow row = {{"t", t}, {"step", static_cast<double>(st.step)}, {"dt", st.dt}};
+  if (capsules() == 1) {
+    const ShapeDiagnostics& s = watch[0].last_shape;
+    row.insert(row.end(), {{"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
+                           {"Le1", s.Le[0]}, {"Le2", s.Le[1]}, {"Le3", s.Le[2]}, {"L1", s.L[0]}, {"L2", s.L[1]}, {"L3", s.L[2]},
+                           {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
+                           {"centroid1", centroid[0]}, {"centroid2", centroid[1]}, {"centroid3", centroid[2]},
+                           {"E_membrane", en[0].membrane}, {"E_bending", en[0].bending}, {"E_shear", en[0].shear},
+                           {"steady_measure", steady->measure()}, {"wall_seconds", wall_seconds()}});
+    for (const auto& [name, value] : watch[0].health->columns()) row.emplace_back(name, value);
+    far_check->append_columns(row);     // fluid.verify_every > 0 only
+    dl_far_check->append_columns(row);  // ... and λ ≠ 1
+    // In the flow plane (docs/conventions.md §5.6): θ in degrees, the rotation rate per unit γ̇t.
+    const CapsuleWatch& w = watch[0];
+    row.insert(row.end(), {{"D_flow", w.last_plane_shape.D}, {"theta", w.last_plane_shape.theta * 180 / M_PI},
+                           {"tank_treading", w.last_tank_treading}});
+  } else {  // each capsule's columns prefixed "c<k>." (docs/several-capsules.md), then the run's
+    const Vec3 common = volume_moments(x, ref.triangles).centroid;
+    for (int k = 0; k < capsules(); ++k) {
+      const CapsuleWatch& w = watch[static_cast<std::size_t>(k)];
+      const ShapeDiagnostics& s = w.last_shape;
+      // The lab frame moves every capsule alike: its centroid is the common one plus its offset from it.
+      const Vec3 c = centroid + (volume_moments(capsule_mesh(x, k)).centroid - common);
+      const std::string p = fmt::format("c{}.", k + 1);
+      row.insert(row.end(), {{p + "D12", s.D.D12}, {p + "D13", s.D.D13}, {p + "D23", s.D.D23},
+                             {p + "Le1", s.Le[0]}, {p + "Le2", s.Le[1]}, {p + "Le3", s.Le[2]},
+                             {p + "L1", s.L[0]}, {p + "L2", s.L[1]}, {p + "L3", s.L[2]},
+                             {p + "area", s.area}, {p + "volume", s.volume}, {p + "volume_drift", s.volume / w.volume0 - 1},
+                             {p + "centroid1", c[0]}, {p + "centroid2", c[1]}, {p + "centroid3", c[2]},
+                             {p + "E_membrane", en[k].membrane}, {p + "E_bending", en[k].bending}, {p + "E_shear", en[k].shear},
+                             {p + "D_flow", w.last_plane_shape.D}, {p + "theta", w.last_plane_shape.theta * 180 / M_PI},
+                             {p + "tank_treading", w.last_tank_treading}});
+      for (const auto& [name, value] : w.health->columns()) row.emplace_back(p + name, value);
+    }
+    row.insert(row.end(), {{"volume_drift", enclosed_volume(SurfaceMesh{x, ref.triangles}) / st.volume0 - 1},
+                           {"wall_seconds", wall_seconds()}});
+    for (const auto& [name, value] : gap->columns()) row.emplace_back(name, value);
+    far_check->append_columns(row);
+  }
   if (dyn->viscosity_ratio_solver()) {  // λ ≠ 1: GMRES iterations per evaluation since the previous row
     const RhsCounters& n = dyn->counters();
     const long evals = n.evaluations - output_mark.evaluations;
@@ -130,7 +175,7 @@ void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
   ck.positions = st.x;
   ck.reference_positions = ref.vertices;
   ck.triangles = ref.triangles;
-  ck.wall_state = dyn->wall().state();
+  ck.wall_state = wall_state();
   ck.history = steady->history();
   ck.scene_toml = to_toml(scene);
   ck.scene_resolved = to_json(scene).dump();
@@ -140,7 +185,18 @@ void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
   s.rhs_evaluations = rhs_evaluations();
   nlohmann::json extra = s.extra();
   extra["time_plan"] = plan.to_json();
-  extra["health"] = health->state();
+  if (capsules() == 1) {
+    extra["health"] = watch[0].health->state();
+  } else {
+    extra["health"] = nlohmann::json::array();
+    for (const CapsuleWatch& w : watch) extra["health"].push_back(w.health->state());
+    extra["surface_gap"] = gap->state();
+    extra["capsules"] = {{"nodes", nlohmann::json::array()}, {"elements", nlohmann::json::array()}};
+    for (int k = 0; k < capsules(); ++k) {
+      extra["capsules"]["nodes"].push_back(surfaces->part(k).nodes);
+      extra["capsules"]["elements"].push_back(surfaces->part(k).elements);
+    }
+  }
   stepper->save(extra, ck.integrator_state);
   dyn->save_fluid_state(extra, ck.fluid_state);
   if (far_check->enabled()) extra[far_check->name()] = far_check->state(dyn->single_layer());

@@ -29,6 +29,18 @@ double peak_rss_mb() {
 
 }  // namespace
 
+namespace {
+// The progress line's health: one capsule's status, or "ok" and each ailing capsule's ("c2 folds").
+std::string health_status(const std::vector<CapsuleWatch>& watch, const SurfaceGapWatch* gap) {
+  if (watch.size() == 1) return watch[0].health->status();
+  std::string s;
+  for (std::size_t k = 0; k < watch.size(); ++k)
+    if (const std::string one = watch[k].health->status(); one != "ok") s += fmt::format("{}c{} {}", s.empty() ? "" : ", ", k + 1, one);
+  if (gap && gap->active()) s += std::string(s.empty() ? "" : ", ") + "surface_gap";
+  return s.empty() ? "ok" : s;
+}
+}  // namespace
+
 void Simulation::Impl::report_progress(bool force) {
   if (!force && report_clock.seconds() < opt.progress_interval) return;
   report_clock.restart();
@@ -40,10 +52,11 @@ void Simulation::Impl::report_progress(bool force) {
   const double done = st.t - t_segment_start;
   const double eta = done > 0 ? seg * (t_end - st.t) / done : NAN;
   const double drift = enclosed_volume(SurfaceMesh{st.x, ref.triangles}) / st.volume0 - 1;
+  const std::string status = health_status(watch, gap.get());
   spdlog::info("step {:>7}  t {:.4f}/{:g} ({:5.1f}%)  dt {:.2e}  {} rej {:>3}  evals {:>7} ({:.1f} ms)  ETA {}  dV/V {:+.1e}  steady {:.1e} (tol {:.0e})  health {}",
                st.step, st.t, t_end, 100 * st.t / t_end, st.dt, stepper->status(), st.rejected_steps, rhs_evaluations(),
-               1e3 * per_eval, hms(eta), drift, steady->measure(), scene.time.steady_tol, health->status());
-  if (opt.on_progress) opt.on_progress({st.step, st.t, t_end, st.dt, rhs_evaluations(), wall_seconds(), eta, drift, steady->measure(), health->status()});
+               1e3 * per_eval, hms(eta), drift, steady->measure(), scene.time.steady_tol, status);
+  if (opt.on_progress) opt.on_progress({st.step, st.t, t_end, st.dt, rhs_evaluations(), wall_seconds(), eta, drift, steady->measure(), status});
 }
 
 nlohmann::json Simulation::Impl::timing_table() const {
@@ -87,14 +100,24 @@ nlohmann::json Simulation::Impl::timing_table() const {
 }
 
 // summary.json without stop_reason and timing (Simulation::finish adds them).
+nlohmann::json Simulation::Impl::capsule_summary(int k) const {
+  const CapsuleWatch& w = watch.at(static_cast<std::size_t>(k));
+  const ShapeDiagnostics& s = w.last_shape;
+  // The lab frame moves every capsule alike (run_output.cpp).
+  const Vec3 c = capsules() == 1 ? st.centroid_lab
+                                 : Vec3(st.centroid_lab + volume_moments(capsule_mesh(st.x, k)).centroid - st.centroid_frame);
+  return {{"centroid", {c[0], c[1], c[2]}},
+          {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
+          {"L", {s.L[0], s.L[1], s.L[2]}}, {"Le", {s.Le[0], s.Le[1], s.Le[2]}},
+          {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / w.volume0 - 1},
+          {"D_flow", w.last_plane_shape.D}, {"theta", w.last_plane_shape.theta * 180 / M_PI},
+          {"tank_treading", std::isfinite(w.last_tank_treading) ? nlohmann::json(w.last_tank_treading) : nlohmann::json()},
+          {"health", w.health->summary()}};
+}
+
 nlohmann::json Simulation::Impl::summary() const {
-  const auto& s = last_shape;
   nlohmann::json summary = {
       {"t", st.t}, {"steps", st.step}, {"steady", steady->steady()},
-      {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
-      {"L", {s.L[0], s.L[1], s.L[2]}}, {"Le", {s.Le[0], s.Le[1], s.Le[2]}},
-      {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
-      {"centroid", {st.centroid_lab[0], st.centroid_lab[1], st.centroid_lab[2]}},
       {"wall_seconds", wall_seconds()}, {"elements", ref.num_elements()}, {"nodes", ref.num_nodes()},
       {"backend", to_string(dyn->single_layer().backend())}, {"backend_reason", dyn->single_layer().backend_reason()},
       {"fmm_order", dyn->single_layer().fmm_order()}, {"fmm_leaf_size", dyn->single_layer().fmm_leaf_size()},
@@ -110,11 +133,18 @@ nlohmann::json Simulation::Impl::summary() const {
                                  {"in_force", tolerance_in_force()},
                                  {"rewind", st.rewind ? st.rewind->to_json() : nlohmann::json()},
                                  {"creases_seen_at", st.creases_seen_at ? nlohmann::json(*st.creases_seen_at) : nlohmann::json()}};
-  summary["health"] = health->summary();
-  // The flow-plane observables at the last output (docs/conventions.md §5.6; θ in degrees).
-  summary["D_flow"] = last_plane_shape.D;
-  summary["theta"] = last_plane_shape.theta * 180 / M_PI;
-  summary["tank_treading"] = std::isfinite(last_tank_treading) ? nlohmann::json(last_tank_treading) : nlohmann::json();
+  // Each capsule's shape at the last output (the flow-plane observables: docs/conventions.md §5.6;
+  // θ in degrees); one capsule's also at the top level, as before there were several.
+  summary["capsules"] = nlohmann::json::array();
+  for (int k = 0; k < capsules(); ++k) summary["capsules"].push_back(capsule_summary(k));
+  if (capsules() == 1) {
+    for (const auto& [key, value] : summary["capsules"][0].items()) summary[key] = value;
+  } else {
+    summary["volume_drift"] = enclosed_volume(SurfaceMesh{st.x, ref.triangles}) / st.volume0 - 1;
+    summary["surface_gap"] = gap->summary();
+    summary["contact"] = {{"repulsion_range", scene.contact.repulsion_range},
+                          {"repulsion_strength", scene.contact.repulsion_strength}};
+  }
   if (dyn->viscosity_ratio_solver()) {
     const DoubleLayerDiagnostics D = dyn->viscosity_ratio_solver()->double_layer().diagnostics();
     summary["viscosity_ratio"] = {{"lambda", scene.fluid.viscosity_ratio},
@@ -151,7 +181,6 @@ nlohmann::json Simulation::Impl::summary() const {
 }
 
 void Simulation::Impl::log_finish(const nlohmann::json& timing) const {
-  const auto& s = last_shape;
   spdlog::info("phase                       seconds   share  cpu/wall ({} threads)", threads);
   const double total = timing["total_seconds"].get<double>();
   for (const auto& [k, v] : timing["phases"].items()) {
@@ -172,8 +201,12 @@ void Simulation::Impl::log_finish(const nlohmann::json& timing) const {
     if (c.contains("gmres") && k != "output")
       gmres_per_kind += fmt::format("  {} {:.2f}", k, c["gmres"].get<double>() / c["evaluations"].get<double>());
   if (!gmres_per_kind.empty()) spdlog::info("GMRES iterations per evaluation:{}", gmres_per_kind);
-  spdlog::info("D12 {:.4f}  D13 {:.4f}  D23 {:.4f}  L {:.3f} {:.3f} {:.3f}  Le {:.3f} {:.3f} {:.3f}", s.D.D12, s.D.D13, s.D.D23,
-               s.L[0], s.L[1], s.L[2], s.Le[0], s.Le[1], s.Le[2]);
+  for (int k = 0; k < capsules(); ++k) {
+    const ShapeDiagnostics& s = watch[static_cast<std::size_t>(k)].last_shape;
+    spdlog::info("{}D12 {:.4f}  D13 {:.4f}  D23 {:.4f}  L {:.3f} {:.3f} {:.3f}  Le {:.3f} {:.3f} {:.3f}",
+                 capsules() == 1 ? std::string() : fmt::format("capsule {}: ", k + 1), s.D.D12, s.D.D13, s.D.D23, s.L[0],
+                 s.L[1], s.L[2], s.Le[0], s.Le[1], s.Le[2]);
+  }
 }
 
 }  // namespace capsflow

@@ -5,6 +5,7 @@
 
 #include <fmt/core.h>
 
+#include "capsflow/core/driver/capsule_placement.hpp"
 #include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/taylor_deformation.hpp"
@@ -13,6 +14,7 @@
 #include "capsflow/core/io/output_folder.hpp"
 #include "capsflow/core/io/run_identity.hpp"
 #include "capsflow/core/io/version.hpp"
+#include "capsflow/core/rhs/capsule_dynamics.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
@@ -32,7 +34,7 @@ void Simulation::Impl::set_up() {
   if (!opt.restart.empty()) restore(ck);
   else start_at_reference();
   const nlohmann::json meta = metadata();
-  out = opt.restart.empty() || restart.new_folder ? std::make_unique<io::ResultsWriter>(folder, ref, meta)
+  out = opt.restart.empty() || restart.new_folder ? new_results_writer()
                                                   : std::make_unique<io::ResultsWriter>(io::ResultsWriter::reopen(folder, st.t, meta));
   log_set_up();
   make_stepper();
@@ -40,15 +42,21 @@ void Simulation::Impl::set_up() {
     const auto e = nlohmann::json::parse(ck.extra);
     stepper->load(e, ck.integrator_state, st.x);
   }
-  if (opt.restart.empty()) observe_health();  // the reference state: no episode can begin here
+  // The reference state: no episode of a wall's condition can begin here, but capsules may start
+  // closer than contact.min_gap: a stop asked for it ends the run at its first step.
+  if (opt.restart.empty())
+    if (const std::optional<StopReason> r = observe_health()) stop(*r);
   effort_mark = dyn->counters();
   if (opt.restart.empty() || restart.new_folder) {
     write_first_output();
   } else {
-    const SurfaceMesh cur{st.x, ref.triangles};
-    last_shape = shape_diagnostics(cur);
-    last_plane_shape = in_plane_shape(cur, plane);
-    tank_treading->update(cur, st.t);  // the rate of the next row is measured from here
+    for (int k = 0; k < capsules(); ++k) {
+      CapsuleWatch& w = watch[static_cast<std::size_t>(k)];
+      const SurfaceMesh cur = capsule_mesh(st.x, k);
+      w.last_shape = shape_diagnostics(cur);
+      w.last_plane_shape = in_plane_shape(cur, plane);
+      w.tank_treading->update(cur, st.t);  // the rate of the next row is measured from here
+    }
   }
   t_segment_start = st.t;
 }
@@ -64,18 +72,65 @@ void Simulation::Impl::choose_time_plan(const io::CheckpointState& ck) {
       return;
     }
   }
-  plan = resolve_time_plan(scene, ref);
+  plan = resolve_time_plan(scene, capsule_mesh(ref.vertices, 0));  // every capsule has the scene's mesh
 }
 
 void Simulation::Impl::make_stepper() {
   stepper_tolerance = tolerance_in_force();
-  stepper = make_time_stepper(scene, plan, stepper_tolerance, ref.triangles, st.volume0, st.x);
+  if (capsules() == 1) {
+    stepper = make_time_stepper(scene, plan, stepper_tolerance, ref.triangles, st.volume0, st.x);
+    return;
+  }
+  std::vector<double> volumes0;
+  for (const CapsuleWatch& w : watch) volumes0.push_back(w.volume0);
+  stepper = make_time_stepper(scene, plan, stepper_tolerance, *surfaces, volumes0, st.x);
+}
+
+SurfaceMesh Simulation::Impl::capsule_mesh(const Points& x, int k) const {
+  return capsules() == 1 ? SurfaceMesh{x, ref.triangles} : surfaces->part_mesh(x, k);
+}
+
+Eigen::VectorXd Simulation::Impl::wall_state() const {
+  if (capsules() == 1) return dyn->wall_of(0).state();
+  std::vector<Eigen::VectorXd> each;
+  Eigen::Index n = 0;
+  for (int k = 0; k < capsules(); ++k) n += each.emplace_back(dyn->wall_of(k).state()).size();
+  Eigen::VectorXd all(n);
+  n = 0;
+  for (const Eigen::VectorXd& s : each) {
+    all.segment(n, s.size()) = s;
+    n += s.size();
+  }
+  return all;
+}
+
+void Simulation::Impl::set_wall_state(const Eigen::VectorXd& all) {
+  if (capsules() == 1) return dyn->wall_of(0).set_state(all);
+  Eigen::Index n = 0;
+  for (int k = 0; k < capsules(); ++k) {
+    const Eigen::Index size = dyn->wall_of(k).state().size();
+    if (n + size > all.size()) throw std::runtime_error("checkpoint: the wall state is shorter than the capsules' walls");
+    dyn->wall_of(k).set_state(all.segment(n, size));
+    n += size;
+  }
+  if (n != all.size()) throw std::runtime_error("checkpoint: the wall state is longer than the capsules' walls");
 }
 
 void Simulation::Impl::make_parts() {
   steady = std::make_unique<SteadyStateDetector>(scene.time.steady_tol);
-  dyn = std::make_unique<CapsuleDynamics>(scene, ref, threads);
-  health = std::make_unique<HealthMonitor>(scene, ref);
+  suspension = nullptr;
+  gap.reset();
+  if (capsules() == 1) {
+    dyn = std::make_unique<CapsuleDynamics>(scene, ref, threads);
+  } else {
+    auto several = std::make_unique<SuspensionDynamics>(
+        scene, *surfaces, threads, ContactRepulsion{scene.contact.repulsion_range, scene.contact.repulsion_strength});
+    suspension = several.get();
+    dyn = std::move(several);
+    std::vector<SurfacePart> parts;
+    for (int k = 0; k < capsules(); ++k) parts.push_back(surfaces->part(k));
+    gap = std::make_unique<SurfaceGapWatch>(scene.contact.min_gap, parts);
+  }
   instability = InstabilityWatch(scene.fluid.volume_correction ? InstabilityWatch::Volume::Corrected
                                                                : InstabilityWatch::Volume::Uncorrected);
   far_check = std::make_unique<FarFieldWatch>(scene.fluid.verify_every, dyn->single_layer().far_field_tolerance());
@@ -83,7 +138,14 @@ void Simulation::Impl::make_parts() {
                                                  far_field_tolerance(scene).tolerance, "double_layer_far_field_check",
                                                  "double-layer far-field check", "the largest directly summed value");
   plane = flow_plane(scene.flow.gradient);
-  tank_treading = std::make_unique<TankTreadingMeter>(plane);
+  watch.clear();
+  for (int k = 0; k < capsules(); ++k) {
+    CapsuleWatch& w = watch.emplace_back();
+    const SurfaceMesh reference = capsule_mesh(ref.vertices, k);
+    w.health = std::make_unique<HealthMonitor>(scene, reference);
+    w.tank_treading = std::make_unique<TankTreadingMeter>(plane);
+    w.volume0 = enclosed_volume(reference);
+  }
 }
 
 void Simulation::Impl::start_at_reference() {
@@ -107,6 +169,28 @@ void Simulation::Impl::write_first_output() {
 
 namespace {
 
+// The capsules of a checkpoint's union mesh: extra["capsules"] holds each one's node and element
+// counts (absent: one capsule).
+SurfaceSet stored_capsules(const SurfaceMesh& all, const nlohmann::json& extra) {
+  if (!extra.contains("capsules")) return SurfaceSet({all});
+  const auto nodes = extra.at("capsules").at("nodes").get<std::vector<Eigen::Index>>();
+  const auto elements = extra.at("capsules").at("elements").get<std::vector<Eigen::Index>>();
+  std::vector<SurfaceMesh> parts;
+  Eigen::Index n0 = 0, e0 = 0;
+  for (std::size_t k = 0; k < nodes.size() && k < elements.size(); ++k) {
+    if (n0 + nodes[k] > all.num_nodes() || e0 + elements[k] > all.num_elements())
+      throw std::runtime_error("checkpoint: its capsules' node and element counts exceed its mesh");
+    SurfaceMesh m{all.vertices.middleRows(n0, nodes[k]), all.triangles.middleRows(e0, elements[k])};
+    m.triangles.array() -= static_cast<int>(n0);
+    parts.push_back(std::move(m));
+    n0 += nodes[k];
+    e0 += elements[k];
+  }
+  if (n0 != all.num_nodes() || e0 != all.num_elements())
+    throw std::runtime_error("checkpoint: its capsules' node and element counts do not add up to its mesh");
+  return SurfaceSet(parts);
+}
+
 // The folder a run will write: the new run's -o, or for a restart its -o or else the checkpoint's
 // own folder (as plan_restart decides it, but known before the checkpoint is read).
 std::filesystem::path folder_to_write(const RunOptions& opt) {
@@ -120,7 +204,12 @@ std::filesystem::path folder_to_write(const RunOptions& opt) {
 
 void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
   namespace fs = std::filesystem;
-  if (opt.restart.empty()) ref = make_reference_mesh(opt.scene.mesh);  // a bad mesh is refused before any folder exists
+  if (opt.restart.empty()) {  // a bad mesh or overlapping capsules are refused before any folder exists
+    SurfaceSet set = place_capsules(opt.scene, make_reference_mesh(opt.scene.mesh));
+    check_capsules_apart(opt.scene, set);
+    ref = set.mesh();
+    surfaces = std::make_unique<SurfaceSet>(std::move(set));
+  }
   stop_set_up_if_requested();
   const fs::path target = folder_to_write(opt);
   if (target.empty()) throw io::IoError("the output folder path is empty");
@@ -171,6 +260,7 @@ void Simulation::Impl::set_up_restart_folder(io::CheckpointState& ck) {
   else if (const auto removed = io::open_output_folder_for_restart(folder).removed; !removed.empty())
     spdlog::info("removed {} temporaries left by killed runs (first: {})", removed.size(), removed.front().filename().string());
   ref = SurfaceMesh{ck.reference_positions, ck.triangles};
+  surfaces = std::make_unique<SurfaceSet>(stored_capsules(ref, nlohmann::json::parse(ck.extra)));
   run_id = restart.run_id;
 }
 
@@ -189,7 +279,7 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
   st.t = ck.t;
   st.dt = ck.dt;
   st.step = ck.step;
-  dyn->wall().set_state(ck.wall_state);
+  set_wall_state(ck.wall_state);
   steady->set_history(ck.history);
   const auto e = nlohmann::json::parse(ck.extra);
   st.set_extra(e);
@@ -201,8 +291,26 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
   st.next_output = restart_index(e.at("next_output").get<std::int64_t>(), stored.output.every, scene.output.every, st.t);
   st.next_checkpoint = restart_index(e.at("next_checkpoint").get<std::int64_t>(), stored.output.checkpoint_every,
                                      scene.output.checkpoint_every, st.t);
-  if (e.contains("health")) health->set_state(e.at("health"));
+  if (e.contains("health")) {
+    const nlohmann::json& h = e.at("health");  // one capsule: its monitor's state; several: a list
+    for (int k = 0; k < capsules(); ++k) watch[static_cast<std::size_t>(k)].health->set_state(h.is_array() ? h.at(static_cast<std::size_t>(k)) : h);
+  }
+  if (gap && e.contains("surface_gap")) gap->set_state(e.at("surface_gap"));
   last_output_t = st.t;
+}
+
+std::unique_ptr<io::ResultsWriter> Simulation::Impl::new_results_writer() const {
+  io::MeshParts parts;
+  if (capsules() > 1) {  // each capsule its grid in run.xmf
+    parts.nodes.push_back(0);
+    parts.elements.push_back(0);
+    for (int k = 0; k < capsules(); ++k) {
+      const SurfacePart& p = surfaces->part(k);
+      parts.nodes.push_back(p.node_begin + p.nodes);
+      parts.elements.push_back(p.element_begin + p.elements);
+    }
+  }
+  return std::make_unique<io::ResultsWriter>(folder, ref, metadata(), std::move(parts));
 }
 
 nlohmann::json Simulation::Impl::metadata() const {
@@ -214,6 +322,7 @@ nlohmann::json Simulation::Impl::metadata() const {
                          {"fmm_order", dyn->single_layer().fmm_order()},
                          {"fmm_leaf_size", dyn->single_layer().fmm_leaf_size()}};
   meta["run_id"] = run_id;
+  meta["capsules"] = capsules();
   meta["mesh_hash"] = mesh_hash;
   if (st.rewind) meta["auto_tolerance_rewind"] = st.rewind->to_json();
   if (restart.new_folder) {
@@ -229,6 +338,11 @@ void Simulation::Impl::log_set_up() const {
   spdlog::info("scene {}: {} elements, {} nodes, wall {} {}, flow {}, Ca_s = {:g}", scene.source, ref.num_elements(),
                ref.num_nodes(), to_string(scene.wall.model), shell::to_string(scene.wall.law), to_string(scene.flow.type),
                scene.flow.ca_s);
+  if (capsules() > 1)
+    spdlog::info("{} capsules of {} elements each (docs/several-capsules.md), repulsion {}", capsules(),
+                 surfaces->part(0).elements,
+                 scene.contact.repulsion_range > 0 ? fmt::format("within {:g} element sizes", scene.contact.repulsion_range)
+                                                   : std::string("off"));
   spdlog::info("boundary integral: {} ({})", to_string(dyn->single_layer().backend()), dyn->single_layer().backend_reason());
   spdlog::info("output: {}{}", folder.string(), opt.restart.empty() ? "" : fmt::format(" (restart from t = {:g})", st.t));
   if (restart.new_folder) spdlog::info("new run folder from checkpoint {} (earlier history stays there)", checkpoint_path.string());

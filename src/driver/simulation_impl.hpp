@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -24,7 +25,10 @@
 #include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/io/results_writer.hpp"
 #include "capsflow/core/phase_times.hpp"
-#include "capsflow/core/rhs/capsule_dynamics.hpp"
+#include "capsflow/core/geometry/surface_set.hpp"
+#include "capsflow/core/health/surface_gap_watch.hpp"
+#include "capsflow/core/rhs/capsules_dynamics.hpp"
+#include "capsflow/core/rhs/suspension_dynamics.hpp"
 #include "capsflow/core/stepping/time_plan.hpp"
 #include "capsflow/core/stepping/time_stepper.hpp"
 
@@ -65,6 +69,16 @@ struct RunState {
   void set_extra(const nlohmann::json& e);
 };
 
+// One capsule's observers: its shape at the last output, its health, its membrane's rotation.
+struct CapsuleWatch {
+  std::unique_ptr<HealthMonitor> health;
+  std::unique_ptr<TankTreadingMeter> tank_treading;
+  ShapeDiagnostics last_shape;
+  InPlaneShape last_plane_shape;
+  double last_tank_treading = std::numeric_limits<double>::quiet_NaN();
+  double volume0 = 0;  // of its reference
+};
+
 struct Simulation::Impl {
   Impl(RunOptions o, const std::atomic<int>& stop_request) : opt(std::move(o)), stop_request(stop_request) {}
 
@@ -85,6 +99,7 @@ struct Simulation::Impl {
   void make_stepper();  // the plan's scheme at the tolerance in force
   void restore(const io::CheckpointState& ck);
   nlohmann::json metadata() const;
+  std::unique_ptr<io::ResultsWriter> new_results_writer() const;  // a fresh run.h5 of ref (each capsule its grid)
   void log_set_up() const;
   // run.cpp: the step and what it is made of
   std::optional<StopReason> step();
@@ -98,7 +113,8 @@ struct Simulation::Impl {
   Vec3 lab_centroid_at(double t, const Points& x) const;  // at an output time inside that step
   std::optional<StopReason> observe_health();
   // crease_rule.cpp: the time plan's CreaseAction once the wall creases at the mesh scale
-  bool wall_creased() const;  // folded at the mesh scale into creases (auto_tolerance.hpp's criterion)
+  bool wall_creased() const;  // a wall folded at the mesh scale into creases (auto_tolerance.hpp's criterion)
+  double largest_facet_angle() const;  // of every capsule's last health sample
   bool follow_crease_rule(bool health_stop);  // after an accepted step; true: the run was rewound to t = 0
   bool rewind_to_start();                     // true: rewound (false: this folder cannot, tight from here)
   void follow_tolerance_in_force();           // the stepper takes the plan's tolerance where it changes
@@ -138,13 +154,18 @@ struct Simulation::Impl {
   std::string run_id, mesh_hash;
   int threads = 1;
 
-  std::unique_ptr<CapsuleDynamics> dyn;    // the right-hand side
+  std::unique_ptr<SurfaceSet> surfaces;    // the capsules in ref: each one's rows (one: all of them)
+  int capsules() const { return surfaces->size(); }
+  SurfaceMesh capsule_mesh(const Points& x, int k) const;  // capsule k at the union's positions x
+  std::unique_ptr<CapsulesDynamics> dyn;   // the right-hand side: CapsuleDynamics, or SuspensionDynamics
+  SuspensionDynamics* suspension = nullptr;  // dyn, when there are several capsules
   TimePlan plan;                           // how the run is stepped (stepping/time_plan.hpp)
   bool plan_from_checkpoint = false;       // a restart kept its checkpoint's plan
   std::unique_ptr<TimeStepper> stepper;    // the plan's scheme
   std::unique_ptr<io::ResultsWriter> out;
   std::unique_ptr<SteadyStateDetector> steady;
-  std::unique_ptr<HealthMonitor> health;
+  std::vector<CapsuleWatch> watch;         // one per capsule
+  std::unique_ptr<SurfaceGapWatch> gap;    // several capsules: the closest approach
   InstabilityWatch instability;            // geometric growth of the volume drift: a blow-up at its start
   std::unique_ptr<FarFieldWatch> far_check;  // fluid.verify_every: the single layer's far field
   std::unique_ptr<FarFieldWatch> dl_far_check;  // ... and the double layer's (λ ≠ 1; disabled otherwise)
@@ -159,13 +180,13 @@ struct Simulation::Impl {
   int consecutive_solver_failures = 0;  // retried in shorter steps (run.cpp)
   double t_segment_start = 0;
   double last_output_t = -1;
-  ShapeDiagnostics last_shape;
   // The flow-plane observables of every row (geometry/flow_plane.hpp): in-plane shape and the
-  // membrane's rotation rate since the previous row (NaN on a segment's first row).
+  // membrane's rotation rate since the previous row (NaN on a segment's first row), per capsule.
   FlowPlane plane;
-  std::unique_ptr<TankTreadingMeter> tank_treading;
-  InPlaneShape last_plane_shape;
-  double last_tank_treading = std::numeric_limits<double>::quiet_NaN();
+  void measure_shapes(const Points& x, double t);  // every watch's shape at an output of time t
+  nlohmann::json capsule_summary(int k) const;     // summary.json's entry of capsule k
+  Eigen::VectorXd wall_state() const;              // every capsule's wall state, concatenated
+  void set_wall_state(const Eigen::VectorXd& s);
   RhsCounters output_mark;  // the right-hand side's counters at the last row (gmres_per_eval)
   Points x_prev, v_out, x_between;  // x_between: an interpolated output state
   double centroid_step_start = 0;    // the last accepted step's start, and its centroids there

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/driver/capsule_placement.hpp"
 #include "capsflow/core/driver/time_grid.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/taylor_deformation.hpp"
@@ -17,6 +18,7 @@
 #include "capsflow/core/mesh/topology.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
+#include "capsflow/core/rhs/suspension_dynamics.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
 #include "capsflow/core/stepping/heun.hpp"
 #include "capsflow/core/stepping/rkc_coefficients.hpp"
@@ -64,9 +66,14 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   // The single layer's far-field sources: the edge midpoints on flat facets, 3 Gauss points per
   // curved element (docs/boundary-integral.md §4.2.1).
   const SingleLayerOptions sl_options = boundary_integral_options(scene);
-  const Eigen::Index sources = far_field_source_count(sl_options, mesh.num_elements(), mesh_edges(mesh).rows());
-  const FarFieldBackend b =
-      choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer, sources, mesh.num_nodes(), scene.fluid.tolerance, &why);
+  // Several capsules: one far field over all of them (docs/several-capsules.md), K times the sources.
+  const auto capsules = static_cast<Eigen::Index>(scene.capsule_centers().size());
+  const Eigen::Index sources = capsules * far_field_source_count(sl_options, mesh.num_elements(), mesh_edges(mesh).rows());
+  const FarFieldBackend b = choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer, sources,
+                                           capsules * mesh.num_nodes(), scene.fluid.tolerance, &why);
+  if (capsules > 1)
+    info["capsules"] = {{"count", capsules}, {"elements", capsules * mesh.num_elements()},
+                        {"nodes", capsules * mesh.num_nodes()}};
   run["backend"] = to_string(b);
   run["backend_reason"] = why;
   const FarFieldTolerance tol = far_field_tolerance(scene);
@@ -94,15 +101,22 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   const double rho_analytic = analytic_spectral_radius(scene, st.edge_min);
   double rho = rho_analytic, seconds_per_eval = NAN;
   double power_evaluations = 10;  // per ρ refresh, when not measured (--probe)
-  const bool probed = probe || mesh.num_elements() <= kInfoProbeElements;
+  const bool probed = probe || capsules * mesh.num_elements() <= kInfoProbeElements;
   nlohmann::json radius_info = {{"analytic", rho_analytic}, {"margin", kSpectralRadiusMargin}};
   if (probed) {
-    CapsuleDynamics dyn(scene, mesh);
+    // The run's right-hand side on the run's start: every capsule where the run places it.
+    const SurfaceSet placed = place_capsules(scene, mesh);
+    const Points& x0 = placed.mesh().vertices;
+    std::unique_ptr<CapsulesDynamics> rhs;
+    if (capsules == 1) rhs = std::make_unique<CapsuleDynamics>(scene, mesh);
+    else rhs = std::make_unique<SuspensionDynamics>(scene, placed, 0,
+                                                    ContactRepulsion{scene.contact.repulsion_range, scene.contact.repulsion_strength});
+    CapsulesDynamics& dyn = *rhs;
     Points v;
-    dyn.velocity(mesh.vertices, v);  // first call: rotation solve from the reference, FMM set-up
+    dyn.evaluate(x0, v, {});  // first call: rotation solve from the reference, FMM set-up
     const long cold_iterations = dyn.counters().gmres_iterations;
     Stopwatch clock;
-    dyn.velocity(mesh.vertices, v);
+    dyn.evaluate(x0, v, {});
     seconds_per_eval = clock.seconds();
     if (const ViscosityRatioSolver* vr = dyn.viscosity_ratio_solver()) {
       // The repeated state needs no GMRES iteration; a run's evaluations take 1–3 (§4.8.3): count 2.
@@ -114,7 +128,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
       run["viscosity_ratio"]["cold_iterations"] = cold_iterations;
     }
     SpectralRadiusEstimator power;
-    const SpectralRadiusEstimator::Result r = power.estimate(dyn, mesh.vertices, v);
+    const SpectralRadiusEstimator::Result r = power.estimate(dyn, x0, v);
     rho = kSpectralRadiusMargin * r.sigma;
     power_evaluations = r.evaluations;
     radius_info["method"] = "power_iteration";
@@ -168,8 +182,9 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     if (plan.at_creases == CreaseAction::Loosen) run["time_step"]["tolerance_past_creases"] = plan.crease_tolerance;
   }
   run["time_step"]["t_end"] = scene.time.t_end;
-  // The peak memory (info/memory_estimate.hpp), for this mesh's counts.
-  const MemoryEstimate memory = estimate_peak_memory(scene, MeshCounts{st.elements, st.nodes, st.edges});
+  // The peak memory (info/memory_estimate.hpp), for the counts of all capsules together.
+  const MemoryEstimate memory =
+      estimate_peak_memory(scene, MeshCounts{capsules * st.elements, capsules * st.nodes, capsules * st.edges});
   run["memory_mb"] = memory.total_mb();
   run["memory_double_layer_mb"] = memory.double_layer_mb;
   info["run"] = run;

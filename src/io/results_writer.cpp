@@ -24,6 +24,7 @@ struct ResultsWriter::State {
   fs::path folder;
   Eigen::Index num_nodes = 0;
   Eigen::Index num_triangles = 0;
+  MeshParts parts;                   // K + 1 offsets each, K >= 1 (see parts())
   std::vector<XdmfStep> steps;       // in time order; mirrors /steps in run.h5
   std::int64_t next_index = 0;       // k of the next /steps/<k>
   std::optional<TimeseriesCsv> csv;  // opened on the first row
@@ -55,6 +56,46 @@ std::string host_name() {
 }
 
 std::string step_group(std::int64_t k) { return fmt::format("/steps/{:06d}", k); }
+
+// One part spanning the whole mesh: a run of one surface.
+MeshParts whole_mesh(Eigen::Index num_nodes, Eigen::Index num_triangles) {
+  return {{0, std::int64_t(num_nodes)}, {0, std::int64_t(num_triangles)}};
+}
+
+// check_mesh_parts, and every triangle of capsule k uses only nodes of capsule k (so that its
+// local indices, triangles minus the capsule's first node, index the capsule's own rows).
+void check_parts_of(const MeshParts& parts, const SurfaceMesh& mesh) {
+  check_mesh_parts(parts, mesh.num_nodes(), mesh.num_elements());
+  for (std::size_t k = 0; k + 1 < parts.nodes.size(); ++k) {
+    const std::int64_t first = parts.nodes[k], end = parts.nodes[k + 1];
+    for (std::int64_t i = parts.elements[k]; i < parts.elements[k + 1]; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        const std::int64_t v = mesh.triangles(Eigen::Index(i), c);
+        if (v < first || v >= end) {
+          throw std::invalid_argument(fmt::format(
+              "mesh parts: triangle {} of capsule {} (triangles [{}, {})) uses node {}, outside the "
+              "capsule's nodes [{}, {})",
+              i, k + 1, parts.elements[k], parts.elements[k + 1], v, first, end));
+        }
+      }
+    }
+  }
+}
+
+// /mesh/parts/local_triangles: the union's triangles, each capsule's less its first node.
+h5::RowMatrixXi local_triangles(const MeshParts& parts, const Triangles& triangles) {
+  h5::RowMatrixXi local = triangles;
+  for (std::size_t k = 0; k + 1 < parts.nodes.size(); ++k) {
+    const Eigen::Index first = Eigen::Index(parts.elements[k]);
+    const Eigen::Index count = Eigen::Index(parts.elements[k + 1]) - first;
+    local.middleRows(first, count).array() -= int(parts.nodes[k]);
+  }
+  return local;
+}
+
+std::vector<std::int64_t> to_std(const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& v) {
+  return std::vector<std::int64_t>(v.data(), v.data() + v.size());
+}
 
 // HDF5 link names cannot contain '/', and "." is the object itself.
 std::string link_name(std::string key) {
@@ -98,6 +139,7 @@ void flatten_numbers(h5::Group& g, const nlohmann::json& j, const std::string& p
 struct RunFileSurvey {
   Eigen::Index num_triangles = 0;
   Eigen::Index num_nodes = 0;
+  MeshParts parts;                                       // from /mesh/parts, else the whole mesh
   std::string csv_header;
   std::map<std::int64_t, std::string> csv_rows;          // by step index
   std::vector<std::pair<std::int64_t, XdmfStep>> kept;  // the steps up to the restart time, in order
@@ -135,6 +177,21 @@ RunFileSurvey survey_run_file(const h5::File& f, const std::string& path, double
   }
   s.num_triangles = Eigen::Index(tri[0]);
   s.num_nodes = Eigen::Index(ref[0]);
+  s.parts = whole_mesh(s.num_nodes, s.num_triangles);
+  if (f.exists("mesh/parts")) {
+    MeshParts parts{to_std(f.read_vector<std::int64_t>("mesh/parts/node_offsets")),
+                    to_std(f.read_vector<std::int64_t>("mesh/parts/element_offsets"))};
+    try {
+      check_mesh_parts(parts, s.num_nodes, s.num_triangles);
+    } catch (const std::invalid_argument& e) {
+      throw IoError("'" + path + "': /mesh/parts does not match /mesh: " + e.what());
+    }
+    if (f.shape("mesh/parts/local_triangles") != tri) {
+      throw IoError("'" + path +
+                    "': /mesh/parts/local_triangles and /mesh/triangles differ in shape");
+    }
+    if (parts.nodes.size() > 2) s.parts = std::move(parts);
+  }
   std::map<std::int64_t, XdmfStep> kept;
   std::vector<std::int64_t> unreadable;
   if (f.exists("steps")) {
@@ -183,8 +240,9 @@ RunFileSurvey survey_run_file(const h5::File& f, const std::string& path, double
   return s;
 }
 
-// Replaces run.h5 by a copy of what the restart keeps: the mesh, the metadata, the kept steps with
-// the CSV header and their profiles (the timing table is written again at the run's end).
+// Replaces run.h5 by a copy of what the restart keeps: the mesh (the whole group, /mesh/parts
+// included), the metadata, the kept steps with the CSV header and their profiles (the timing
+// table is written again at the run's end).
 void rebuild_run_file(const fs::path& path, const RunFileSurvey& s) {
   const h5::File from = h5::File::open(path, h5::File::Mode::read_only, true);
   replace_file_atomically(path, [&](const fs::path& tmp) {
@@ -208,7 +266,7 @@ ResultsWriter& ResultsWriter::operator=(ResultsWriter&&) noexcept = default;
 ResultsWriter::~ResultsWriter() = default;
 
 ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
-                             const nlohmann::json& metadata)
+                             const nlohmann::json& metadata, MeshParts parts)
     : s_(std::make_unique<State>()) {
   s_->folder = std::move(folder);
   s_->num_nodes = reference_mesh.num_nodes();
@@ -216,6 +274,14 @@ ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
   if (s_->num_nodes == 0 || s_->num_triangles == 0) {
     throw std::invalid_argument("ResultsWriter: the reference mesh is empty");
   }
+  try {
+    check_parts_of(parts, reference_mesh);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("ResultsWriter: ") + e.what());
+  }
+  // One part is the whole mesh: the layout of one surface, without /mesh/parts.
+  const bool several = parts.num_parts() > 1;
+  s_->parts = several ? std::move(parts) : whole_mesh(s_->num_nodes, s_->num_triangles);
   // A new run starts new series: never append to a CSV or keep a summary of an earlier run.
   for (const char* stale : {kTimeseriesCsv, kSummaryJson}) {
     std::error_code ec;
@@ -226,6 +292,15 @@ ResultsWriter::ResultsWriter(fs::path folder, const SurfaceMesh& reference_mesh,
     h5::File f = h5::File::create(tmp);
     f.write_matrix("mesh/triangles", reference_mesh.triangles);
     f.write_matrix("mesh/reference_positions", reference_mesh.vertices);
+    if (several) {
+      const MeshParts& p = s_->parts;
+      using Offsets = Eigen::Map<const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>>;
+      f.write_vector("mesh/parts/node_offsets",
+                     Offsets(p.nodes.data(), Eigen::Index(p.nodes.size())));
+      f.write_vector("mesh/parts/element_offsets",
+                     Offsets(p.elements.data(), Eigen::Index(p.elements.size())));
+      f.write_matrix("mesh/parts/local_triangles", local_triangles(p, reference_mesh.triangles));
+    }
     {
       h5::Group meta = f.create_group("metadata");
       write_metadata(meta, metadata);
@@ -280,6 +355,7 @@ ResultsWriter ResultsWriter::reopen(fs::path folder, double t_restart,
   }
   s->num_triangles = survey.num_triangles;
   s->num_nodes = survey.num_nodes;
+  s->parts = std::move(survey.parts);
   for (auto& [k, st] : survey.kept) {
     s->steps.push_back(std::move(st));
     s->next_index = k + 1;
@@ -407,7 +483,8 @@ void ResultsWriter::rewrite_xdmf() const {
     if (ec) throw IoError("cannot remove '" + path.string() + "': " + ec.message());
     return;
   }
-  write_file_atomically(path, render_xdmf(kRunH5, s_->num_nodes, s_->num_triangles, s_->steps));
+  write_file_atomically(path,
+                        render_xdmf(kRunH5, s_->num_nodes, s_->num_triangles, s_->steps, s_->parts));
 }
 
 const fs::path& ResultsWriter::folder() const { return s_->folder; }
@@ -418,5 +495,6 @@ double ResultsWriter::last_time() const {
 }
 Eigen::Index ResultsWriter::num_nodes() const { return s_->num_nodes; }
 Eigen::Index ResultsWriter::num_triangles() const { return s_->num_triangles; }
+const MeshParts& ResultsWriter::parts() const { return s_->parts; }
 
 }  // namespace capsflow::io

@@ -45,12 +45,12 @@ void CapsuleDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
 }
 
 CapsuleDynamics::Carry CapsuleDynamics::carry() const {
-  return {wall_load_.wall().state(), wall_load_.load(),
+  return {{wall_load_.wall().state()}, wall_load_.load(),
           viscosity_ ? viscosity_->warm_start() : ViscosityRatioSolver::WarmStart{}};
 }
 
 void CapsuleDynamics::restore(Carry c) {
-  wall_load_.wall().set_state(c.wall);
+  wall_load_.wall().set_state(c.walls.at(0));
   wall_load_.set_load(std::move(c.load));
   if (viscosity_) viscosity_->set_warm_start(std::move(c.viscosity));
 }

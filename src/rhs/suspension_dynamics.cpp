@@ -12,7 +12,6 @@
 
 namespace capsflow {
 
-
 SuspensionDynamics::SuspensionDynamics(const Scene& scene, const SurfaceSet& capsules, int threads,
                                        ContactRepulsion contact)
     : set_(capsules),
@@ -55,6 +54,47 @@ void SuspensionDynamics::repulsion(const Points& x) {
   }
 }
 
+void SuspensionDynamics::solve_walls(const Points& x, const EvaluationHint& hint, bool contact, Stopwatch& clock) {
+  for (int k = 0; k < set_.size(); ++k) {
+    const SurfacePart& p = set_.part(k);
+    Points& xk = x_part_[static_cast<std::size_t>(k)];
+    xk = x.middleRows(p.node_begin, p.nodes);
+    WallAndLoad& w = walls_[static_cast<std::size_t>(k)];
+    if (contact) contact_part_ = contact_force_.middleRows(p.node_begin, p.nodes);
+    w.solve(xk, hint, counters_, times_, clock, contact ? &contact_part_ : nullptr);
+    q_.middleRows(p.node_begin, p.nodes) = w.load();
+  }
+}
+
+void SuspensionDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
+  Stopwatch clock;
+  const bool contact = contact_.range > 0 && set_.size() > 1;
+  if (contact) repulsion(x);
+  solve_walls(x, hint, contact, clock);
+  ++counters_.wall_solves;
+}
+
+CapsulesDynamics::Carry SuspensionDynamics::carry() const {
+  Carry c;
+  for (const WallAndLoad& w : walls_) c.walls.push_back(w.wall().state());
+  c.load = q_;
+  return c;
+}
+
+void SuspensionDynamics::restore(Carry c) {
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    walls_[k].wall().set_state(c.walls.at(k));
+    const SurfacePart& p = set_.part(static_cast<int>(k));
+    walls_[k].set_load(c.load.middleRows(p.node_begin, p.nodes));
+  }
+  q_ = std::move(c.load);
+}
+
+const CrossNearField& SuspensionDynamics::gaps_at(const Points& x) {
+  bie_.find_pairs(x);
+  return bie_.cross();
+}
+
 PhaseTimes SuspensionDynamics::times() const {
   PhaseTimes t = times_;
   t += bie_.layer().times();
@@ -67,22 +107,14 @@ void SuspensionDynamics::evaluate(const Points& x, Points& v, const EvaluationHi
   Stopwatch clock;
   const bool contact = contact_.range > 0 && set_.size() > 1;
   if (contact) repulsion(x);
-  for (int k = 0; k < set_.size(); ++k) {
-    const SurfacePart& p = set_.part(k);
-    Points& xk = x_part_[static_cast<std::size_t>(k)];
-    xk = x.middleRows(p.node_begin, p.nodes);
-    WallAndLoad& w = walls_[static_cast<std::size_t>(k)];
-    if (contact) contact_part_ = contact_force_.middleRows(p.node_begin, p.nodes);
-    w.solve(xk, hint, counters_, times_, clock, contact ? &contact_part_ : nullptr);
-    q_.middleRows(p.node_begin, p.nodes) = w.load();
-  }
+  solve_walls(x, hint, contact, clock);  // the repulsion's time goes with the walls'
   bie_.apply(x, q_, u_, contact);
   if (bie_.cross().inside_nodes() > 0) {  // surfaces that crossed: no velocity of a state that cannot be
     const SurfaceGap& g = bie_.cross().deepest_inside();
     throw SolverFailure(fmt::format("capsules {} and {} overlap: {} node(s) of one inside the other, node {} of capsule {} "
                                     "{:.2g} element sizes deep",
-                                    std::min(g.part, g.other), std::max(g.part, g.other), bie_.cross().inside_nodes(), g.node - set_.part(g.part).node_begin,
-                                    g.part, g.ratio));
+                                    std::min(g.part, g.other) + 1, std::max(g.part, g.other) + 1, bie_.cross().inside_nodes(),
+                                    g.node - set_.part(g.part).node_begin, g.part + 1, g.ratio));
   }
   clock.restart();
   // The imposed flow relative to the capsules' common volume centroid (CapsuleDynamics::evaluate).

@@ -267,6 +267,8 @@ const Section<FlowSpec>& flow_keys();
 const Section<TimeSpec>& time_keys();
 const Section<FluidSpec>& fluid_keys();
 const Section<OutputSpec>& output_keys();
+const Section<LayoutSpec>& layout_keys();
+const Section<ContactSpec>& contact_keys();
 
 // Calls f(section) for every section, in the order of the TOML file.
 template <class F>
@@ -277,6 +279,8 @@ void for_each_section(F&& f) {
   f(time_keys());
   f(fluid_keys());
   f(output_keys());
+  f(layout_keys());
+  f(contact_keys());
 }
 
 // The accepted Ca_s, whether given (flow.ca_s) or derived from flow.ca_v and the thickness.

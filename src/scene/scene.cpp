@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -47,6 +48,52 @@ std::string alternative_of(const std::string& dotted) {
   return alt;
 }
 
+constexpr int kMaxCapsuleTables = 1000;  // as layout.count (scene_keys.cpp)
+
+std::string line_of(const std::string& name, const toml::node& n) {
+  return n.source().begin.line > 0 ? name + ":" + std::to_string(n.source().begin.line) + ": " : name + ": ";
+}
+
+// The [[capsule]] array: each table's centre; every other key, a wrong type or a count outside
+// [1, 1000] is refused naming the capsule (1-based) and the key. The array leaves `root` (the
+// key table's check knows only the sections).
+std::vector<CapsuleSpec> take_capsule_array(toml::table& root, const std::string& name) {
+  std::vector<CapsuleSpec> out;
+  toml::node* node = root.get("capsule");
+  if (!node) return out;
+  const std::string at = line_of(name, *node);
+  const toml::array* arr = node->as_array();
+  if (arr && arr->empty()) throw SceneError(at + "capsule: an empty array: give one [[capsule]] table per capsule, or none");
+  if (!arr || !arr->is_array_of_tables())
+    throw SceneError(at + "capsule: expected an array of tables [[capsule]] (each with its center = [x, y, z])");
+  if (arr->size() > static_cast<std::size_t>(kMaxCapsuleTables))
+    throw SceneError(fmt::format("{}capsule: {} [[capsule]] tables: at most {} capsules", at, arr->size(), kMaxCapsuleTables));
+  int k = 0;
+  for (const toml::node& t : *arr) {
+    ++k;
+    const std::string here = line_of(name, t) + fmt::format("capsule {}: ", k);
+    CapsuleSpec c;
+    bool centered = false;
+    for (const auto& [key, val] : *t.as_table()) {
+      const std::string kname(key.str());
+      if (kname != "center") throw SceneError(here + "unknown key '" + kname + "' (known in [[capsule]]: center)");
+      const toml::array* v = val.as_array();
+      bool ok = v && v->size() == 3;
+      for (std::size_t i = 0; ok && i < 3; ++i) {
+        const toml::node& e = *v->get(i);
+        ok = e.is_number() && std::isfinite(e.value<double>().value_or(NAN));
+        if (ok) c.center[static_cast<Eigen::Index>(i)] = e.value<double>().value_or(0);
+      }
+      if (!ok) throw SceneError(here + "center: expected an array of 3 finite numbers [x, y, z]");
+      centered = true;
+    }
+    if (!centered) throw SceneError(here + "center: required (the capsule's position [x, y, z], in ℓ)");
+    out.push_back(c);
+  }
+  root.erase("capsule");
+  return out;
+}
+
 // Plain "key=value" strings are --set's.
 std::vector<SceneOverride> set_options(const std::vector<std::string>& assignments) {
   std::vector<SceneOverride> out;
@@ -57,6 +104,15 @@ std::vector<SceneOverride> set_options(const std::vector<std::string>& assignmen
 }  // namespace
 
 Scene::Scene() { derive(*this); }
+
+std::vector<Vec3> Scene::capsule_centers() const {
+  std::vector<Vec3> out;
+  for (const CapsuleSpec& c : capsules) out.push_back(c.center);
+  if (!out.empty()) return out;
+  const Vec3 step(layout.dx, layout.dy, layout.dz);
+  for (int k = 0; k < layout.count; ++k) out.push_back((k - 0.5 * (layout.count - 1)) * step);
+  return out;
+}
 
 bool Scene::wants_field(OutputField f) const {
   for (const auto& x : output.fields)
@@ -115,16 +171,19 @@ Scene parse_scene_with(const std::string& toml_text, const std::string& name, co
     if (const std::string alt = alternative_of(key); !alt.empty())
       if (toml::table* t = root.get(key.substr(0, key.find('.')))->as_table()) t->erase(alt);
   }
+  Scene sc;
+  sc.capsules = take_capsule_array(root, name);
   const TomlReader r(root, name, overridden);
   r.check_known(known_keys());
 
-  Scene sc;
   for_each_section([&](const auto& sec) {
     auto& spec = sc.*sec.member;
     for (const auto& k : sec.keys) k.read(r, sec.name, spec);
   });
   derive(sc);
   check_rules(r, sc);
+  if (!sc.capsules.empty() && sc.layout.count > 1)
+    r.fail("layout", "count", "give either a [layout] of several capsules or [[capsule]] tables, not both");
   sc.source = name;
   sc.toml_text = toml_text;
   return sc;
@@ -208,6 +267,10 @@ nlohmann::json to_json(const Scene& s) {
   for_each_section([&](const auto& sec) {
     for (const auto& k : sec.keys) j[sec.name][k.name] = k.to_json(s.*sec.member);
   });
+  if (!s.capsules.empty()) {
+    j["capsule"] = nlohmann::json::array();
+    for (const CapsuleSpec& c : s.capsules) j["capsule"].push_back({{"center", {c.center[0], c.center[1], c.center[2]}}});
+  }
   return j;
 }
 
@@ -220,6 +283,8 @@ std::string to_toml(const Scene& s) {
     for (const auto& k : sec.keys)
       if (const std::optional<std::string> v = k.to_toml(s.*sec.member)) out += k.name + " = " + *v + "\n";
   });
+  for (const CapsuleSpec& c : s.capsules)
+    out += fmt::format("\n[[capsule]]\ncenter = [{}, {}, {}]\n", c.center[0], c.center[1], c.center[2]);
   return out;
 }
 

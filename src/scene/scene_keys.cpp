@@ -326,6 +326,40 @@ const Section<OutputSpec>& output_keys() {
   return s;
 }
 
+// At most 1000 capsules: 1000 meshes of 1280 elements already need about 10 GB (docs/several-capsules.md).
+constexpr int kMaxCapsules = 1000;
+
+const Section<LayoutSpec>& layout_keys() {
+  const std::string step = "centre-to-centre step from one capsule of the row to the next, in ℓ; ";
+  static const Section<LayoutSpec> s{
+      "layout", &Scene::layout,
+      {integer("count", &LayoutSpec::count, 1, closed(1, kMaxCapsules),
+               "capsules in a row centred on the origin, capsule k (0-based) moved by (k − (count − 1)/2)·(dx, dy, dz) "
+               "(`docs/several-capsules.md`); 1: one capsule where its mesh is; give either this or `[[capsule]]` tables"),
+       number("dx", &LayoutSpec::dx, 0.0, Range<double>{}, step + "x1 component (a pair offset in shear: dx = −4, dy = 0.5)"),
+       number("dy", &LayoutSpec::dy, 0.0, Range<double>{}, step + "x2 component"),
+       number("dz", &LayoutSpec::dz, 0.0, Range<double>{}, step + "x3 component (a train along the x3 axis)")}};
+  return s;
+}
+
+const Section<ContactSpec>& contact_keys() {
+  static const Section<ContactSpec> s{
+      "contact", &Scene::contact,
+      {number("repulsion_range", &ContactSpec::repulsion_range, 0.0,
+              closed(0.0, 3.0).because("element sizes; the cross-surface search reaches 3"),
+              "several capsules: a node closer than this many element sizes to an element of another capsule is pushed "
+              "away with the force `repulsion_strength`·(1 − d/(range h))², its reaction on that element (force- and "
+              "torque-free; `docs/several-capsules.md`); 0 = off"),
+       number("repulsion_strength", &ContactSpec::repulsion_strength, 1.0, at_least(0.0),
+              "nodal force of the repulsion at zero gap, in μγ̇ℓ²"),
+       number("min_gap", &ContactSpec::min_gap, 0.05,
+              at_least(0.0).because("element sizes"),
+              "several capsules: the `surface_gap` health condition begins when the smallest gap between two capsules "
+              "falls below this many element sizes (the near-singular quadrature is measured down to 0.05, "
+              "`docs/boundary-integral.md` §4.9); with `time.stop_on = [\"surface_gap\"]` the run stops there")}};
+  return s;
+}
+
 }  // namespace scene_detail
 
 // Each section struct starts from the table's defaults.
@@ -342,5 +376,7 @@ FlowSpec::FlowSpec() { set_defaults(scene_detail::flow_keys(), *this); }
 TimeSpec::TimeSpec() { set_defaults(scene_detail::time_keys(), *this); }
 FluidSpec::FluidSpec() { set_defaults(scene_detail::fluid_keys(), *this); }
 OutputSpec::OutputSpec() { set_defaults(scene_detail::output_keys(), *this); }
+LayoutSpec::LayoutSpec() { set_defaults(scene_detail::layout_keys(), *this); }
+ContactSpec::ContactSpec() { set_defaults(scene_detail::contact_keys(), *this); }
 
 }  // namespace capsflow

@@ -39,6 +39,19 @@ void check_count(const TomlReader& r, const std::string& section, const std::str
 
 }  // namespace
 
+// What several capsules ([layout] count > 1 or [[capsule]] tables) do not do, named by its key.
+void check_several_capsules(const TomlReader& r, const Scene& s) {
+  const LayoutSpec& l = s.layout;
+  if (s.capsules.empty() && l.count > 1 && l.dx == 0 && l.dy == 0 && l.dz == 0)
+    r.fail("layout", "count", fmt::format("{} capsules at one place: give their step layout.dx, dy or dz", l.count));
+  if (s.capsule_centers().size() < 2) return;
+  if (s.fluid.viscosity_ratio != 1.0)
+    r.fail("fluid", "viscosity_ratio", "must be 1 with several capsules (the double layer over several surfaces is not "
+                                       "implemented)");
+  if (s.time.stop_at_steady)
+    r.fail("time", "stop_at_steady", "several capsules have no steady-state test: set time.t_end instead");
+}
+
 void check_rules(const TomlReader& r, const Scene& s) {
   const FlowSpec& f = s.flow;
   if (r.has("flow", "ca_v") && r.has("flow", "ca_s")) r.fail("flow", "ca_s", "give either flow.ca_s or flow.ca_v, not both");
@@ -58,6 +71,7 @@ void check_rules(const TomlReader& r, const Scene& s) {
   const double t_end = s.time.t_end;
   if (!s.time.dt_auto) check_count(r, "time", "dt", s.time.dt, t_end, kMaxSteps, "steps");
   check_count(r, "output", "every", s.output.every, t_end, kMaxOutputs, "outputs");
+  check_several_capsules(r, s);
   if (s.output.checkpoint_every > 0)
     check_count(r, "output", "checkpoint_every", s.output.checkpoint_every, t_end, kMaxOutputs, "checkpoints");
 }

@@ -78,6 +78,16 @@ const std::vector<std::string>& observable_names() {
   return names;
 }
 
+namespace {
+// A run of several capsules (docs/several-capsules.md): a study's observables are capsule 1's.
+bool several_capsules(const nlohmann::json& summary) {
+  return summary.contains("capsules") && summary.at("capsules").size() > 1;
+}
+const nlohmann::json& capsule_one(const nlohmann::json& summary) {
+  return several_capsules(summary) ? summary.at("capsules").at(0) : summary;
+}
+}  // namespace
+
 VariantResult read_variant_result(const fs::path& dir) {
   VariantResult r;
   const fs::path sp = dir / io::kSummaryJson;
@@ -96,10 +106,11 @@ VariantResult read_variant_result(const fs::path& dir) {
     const double evals = timing.at("rhs_evaluations").get<double>();
     for (const auto& [phase, seconds] : timing.at("phases").items())
       r.seconds_per_evaluation_by_phase[phase] = evals > 0 ? seconds.get<double>() / evals : 0.0;
-    for (const char* k : {"D12", "D13", "D23", "area", "volume_drift"}) r.final_values[k] = s.at(k).get<double>();
+    const nlohmann::json& c = capsule_one(s);
+    for (const char* k : {"D12", "D13", "D23", "area", "volume_drift"}) r.final_values[k] = c.at(k).get<double>();
     for (int i = 0; i < 3; ++i) {
-      r.final_values["L" + std::to_string(i + 1)] = s.at("L").at(i).get<double>();
-      r.final_values["Le" + std::to_string(i + 1)] = s.at("Le").at(i).get<double>();
+      r.final_values["L" + std::to_string(i + 1)] = c.at("L").at(i).get<double>();
+      r.final_values["Le" + std::to_string(i + 1)] = c.at("Le").at(i).get<double>();
     }
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error("'" + sp.string() + "': missing or malformed key (" + e.what() + ")");
@@ -114,14 +125,15 @@ VariantResult read_variant_result(const fs::path& dir) {
   std::map<std::string, std::size_t> column;
   for (std::size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
   if (!column.count("t")) throw std::runtime_error("'" + cp.string() + "': no column 't'");
+  const std::string prefix = several_capsules(s) ? "c1." : "";  // the observables are capsule 1's
   for (const std::string& name : observable_names())
-    if (!column.count(name)) throw std::runtime_error("'" + cp.string() + "': no column '" + name + "'");
+    if (!column.count(prefix + name)) throw std::runtime_error("'" + cp.string() + "': no column '" + prefix + name + "'");
   while (std::getline(in, line)) {
     const std::vector<std::string> cells = split(line);
     if (cells.size() != header.size()) continue;  // a line cut by a crash
     auto cell = [&](const std::string& name) { return std::strtod(cells[column.at(name)].c_str(), nullptr); };
     r.times.push_back(cell("t"));
-    for (const std::string& name : observable_names()) r.series[name].push_back(cell(name));
+    for (const std::string& name : observable_names()) r.series[name].push_back(cell(prefix + name));
   }
   return r;
 }

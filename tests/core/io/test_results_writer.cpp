@@ -1,13 +1,16 @@
 // ResultsWriter: run.h5 layout, XDMF well-formed and consistent with run.h5, CSV, summary,
-// timings, restart truncation, a restart over a run.h5 damaged by a kill, and writing while
-// another process holds run.h5 open.
+// timings, restart truncation, a restart over a run.h5 damaged by a kill, several capsules in one
+// union mesh (/mesh/parts, one XDMF grid per capsule), and writing while another process holds
+// run.h5 open.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <ostream>
 #include <regex>
 
 #include "capsflow/core/io/h5.hpp"
@@ -65,6 +68,22 @@ std::vector<std::string> all_matches(const std::string& text, const std::regex& 
   return out;
 }
 
+// Every DataItem that `item` matches ((1) its Dimensions, (2) its dataset in run.h5) names a dataset
+// of that file with that shape; returns how many there are.
+std::size_t check_data_items(const std::string& xml, const std::regex& item, const std::filesystem::path& run_h5) {
+  const h5::File f = h5::File::open(run_h5);
+  std::size_t items = 0;
+  for (std::sregex_iterator it(xml.begin(), xml.end(), item), end; it != end; ++it, ++items) {
+    const std::string dims = (*it)[1].str(), dataset = (*it)[2].str();
+    EXPECT_TRUE(f.exists(dataset)) << dataset;
+    if (!f.exists(dataset)) continue;
+    std::string shape;
+    for (hsize_t d : f.shape(dataset)) shape += (shape.empty() ? "" : " ") + std::to_string(d);
+    EXPECT_EQ(shape, dims) << dataset;
+  }
+  return items;
+}
+
 std::size_t count_uniform_grids(const std::string& xml) {
   return all_matches(xml, std::regex("<Grid Name=\"([^\"]*)\" GridType=\"Uniform\">")).size();
 }
@@ -109,18 +128,11 @@ TEST(ResultsWriter, XdmfAfterThreeStepsIsWellFormedAndPointsAtExistingDatasets) 
 
   // Every DataItem names a dataset of run.h5 whose shape matches Dimensions.
   const std::regex item("Dimensions=\"([0-9 ]+)\"[^>]*>run\\.h5:([^<]+)</DataItem>");
-  h5::File f = h5::File::open(dir / "run.h5");
-  std::size_t items = 0;
-  for (std::sregex_iterator it(xml.begin(), xml.end(), item), end; it != end; ++it, ++items) {
-    const std::string dims = (*it)[1].str(), dataset = (*it)[2].str();
-    ASSERT_TRUE(f.exists(dataset)) << dataset;
-    std::string shape;
-    for (hsize_t d : f.shape(dataset)) shape += (shape.empty() ? "" : " ") + std::to_string(d);
-    EXPECT_EQ(shape, dims) << dataset;
-  }
+  const std::size_t items = check_data_items(xml, item, dir / "run.h5");
   EXPECT_EQ(items, 3u * 4u);  // topology, geometry, 2 fields per step
 
   // The step data itself.
+  h5::File f = h5::File::open(dir / "run.h5");
   h5::Group s1 = f.open_group("steps/000001");
   EXPECT_EQ(s1.attribute_double("time"), 0.1);  // exact: stored as given
   EXPECT_EQ(s1.read_matrix<double>("positions"), h5::RowMatrixXd(mesh.vertices * 1.1));
@@ -342,6 +354,236 @@ TEST(ResultsWriter, RestartRefusesARunFileDamagedBeforeTheRestartTime) {
               std::string::npos) << e.what();
   }
   EXPECT_EQ(read_text(dir / "run.h5"), before);
+}
+
+// Several capsules in one union mesh (MeshParts). A tetrahedron (4 nodes, 4 triangles) and an
+// octahedron (6 nodes, 8 triangles) rather than two equal surfaces: node and element offsets then
+// differ ({0, 4, 10} and {0, 4, 12}), so a mix-up of the two would show.
+struct TwoCapsules {
+  SurfaceMesh tetra = tetrahedron();
+  SurfaceMesh octa;
+  SurfaceMesh union_mesh;
+  MeshParts parts{{0, 4, 10}, {0, 4, 12}};
+
+  TwoCapsules() {
+    octa.vertices.resize(6, 3);
+    octa.vertices << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+    octa.vertices.col(0).array() += 5;  // disjoint from the tetrahedron
+    octa.triangles.resize(8, 3);
+    octa.triangles << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+    union_mesh.vertices.resize(10, 3);
+    union_mesh.vertices << tetra.vertices, octa.vertices;
+    union_mesh.triangles.resize(12, 3);
+    // The union's triangles hold global node indices: the octahedron's nodes follow the 4 of the
+    // tetrahedron.
+    union_mesh.triangles << tetra.triangles, (octa.triangles.array() + 4).matrix();
+  }
+};
+
+// The HDF5 file type of a dataset equals `type` (checked with the C API: the h5 layer converts
+// on read, so reading back would not show a wrong width).
+bool dataset_type_is(const std::filesystem::path& file, const char* dataset, hid_t type) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+  const hid_t t = H5Dget_type(d);
+  const bool same = t >= 0 && H5Tequal(t, type) > 0;
+  H5Tclose(t);
+  H5Dclose(d);
+  H5Fclose(f);
+  return same;
+}
+
+std::vector<std::int64_t> int64_vector(const h5::File& f, const std::string& name) {
+  const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> v = f.read_vector<std::int64_t>(name);
+  return {v.data(), v.data() + v.size()};
+}
+
+// What one XDMF HyperSlab selects: its "start stride count" values and the dataset it reads.
+struct Slab {
+  std::string values, dataset;
+  bool operator==(const Slab& o) const { return values == o.values && dataset == o.dataset; }
+};
+std::ostream& operator<<(std::ostream& os, const Slab& s) {
+  return os << "{" << s.values << " of " << s.dataset << "}";
+}
+
+// The slabs of each grid named "capsule <k>", in document order, keyed by the grid's name.
+std::vector<std::pair<std::string, std::vector<Slab>>> capsule_grids(const std::string& xml) {
+  std::vector<std::pair<std::string, std::vector<Slab>>> grids;
+  const std::regex grid("<Grid Name=\"(capsule [0-9]+)\" GridType=\"Uniform\">");
+  const std::regex slab(
+      "<DataItem Dimensions=\"3 [12]\" Format=\"XML\">([^<]*)</DataItem>\\s*"
+      "<DataItem[^>]*>run\\.h5:([^<]+)</DataItem>");
+  for (std::sregex_iterator it(xml.begin(), xml.end(), grid), end; it != end; ++it) {
+    const std::size_t from = std::size_t(it->position(0));
+    const std::string body = xml.substr(from, xml.find("</Grid>", from) - from);
+    std::vector<Slab> slabs;
+    for (std::sregex_iterator s(body.begin(), body.end(), slab); s != end; ++s) {
+      slabs.push_back({(*s)[1].str(), (*s)[2].str()});
+    }
+    grids.emplace_back((*it)[1].str(), std::move(slabs));
+  }
+  return grids;
+}
+
+// Step t of the two capsules: the union's positions scaled by (1 + t), a vector and a scalar field
+// with the union's rows.
+void write_union_step(ResultsWriter& w, const TwoCapsules& c, double t) {
+  const Points x = c.union_mesh.vertices * (1 + t);
+  w.write_step(t, x, {{"velocity", x * 0.5}, {"tension", Eigen::VectorXd::Constant(10, t)}});
+}
+
+TEST(ResultsWriter, SeveralCapsulesAreRecordedUnderMeshParts) {
+  TempDir dir;
+  const TwoCapsules c;
+  ResultsWriter w(dir.path(), c.union_mesh, metadata(), c.parts);
+  for (double t : {0.0, 0.5}) write_union_step(w, c, t);
+  EXPECT_EQ(w.parts().nodes, (std::vector<std::int64_t>{0, 4, 10}));  // as given
+  EXPECT_EQ(w.parts().elements, (std::vector<std::int64_t>{0, 4, 12}));
+  const std::filesystem::path run = dir / "run.h5";
+  const h5::File f = h5::File::open(run);
+  EXPECT_EQ(f.open_group("mesh/parts").children(),
+            (std::vector<std::string>{"element_offsets", "local_triangles", "node_offsets"}));
+  // K + 1 = 3 offsets each: the tetrahedron's 4 nodes and 4 triangles, then the octahedron's 6 and 8.
+  EXPECT_EQ(int64_vector(f, "mesh/parts/node_offsets"), (std::vector<std::int64_t>{0, 4, 10}));
+  EXPECT_EQ(int64_vector(f, "mesh/parts/element_offsets"), (std::vector<std::int64_t>{0, 4, 12}));
+  // Offsets int64 (any mesh size), local triangles int32 like /mesh/triangles.
+  EXPECT_TRUE(dataset_type_is(run, "/mesh/parts/node_offsets", H5T_STD_I64LE));
+  EXPECT_TRUE(dataset_type_is(run, "/mesh/parts/element_offsets", H5T_STD_I64LE));
+  EXPECT_TRUE(dataset_type_is(run, "/mesh/parts/local_triangles", H5T_STD_I32LE));
+  // Each capsule's triangles numbered from its own first node: the two meshes as they were
+  // built, before the octahedron's were shifted by the tetrahedron's 4 nodes.
+  const h5::RowMatrixXi local = f.read_matrix<int>("mesh/parts/local_triangles");
+  ASSERT_EQ(local.rows(), 12);
+  EXPECT_EQ(h5::RowMatrixXi(local.topRows(4)), h5::RowMatrixXi(c.tetra.triangles));
+  EXPECT_EQ(h5::RowMatrixXi(local.bottomRows(8)), h5::RowMatrixXi(c.octa.triangles));
+  // The union itself is unchanged: global indices, all nodes.
+  EXPECT_EQ(f.read_matrix<int>("mesh/triangles"), h5::RowMatrixXi(c.union_mesh.triangles));
+  EXPECT_EQ(f.read_matrix<double>("mesh/reference_positions"), h5::RowMatrixXd(c.union_mesh.vertices));
+  // Rows [4, 10) of a step's positions are the octahedron (scaled by 1 + t = 1.5): what capsule
+  // 2's grid shows.
+  EXPECT_EQ(h5::RowMatrixXd(f.read_matrix<double>("steps/000001/positions").bottomRows(6)),
+            h5::RowMatrixXd(c.octa.vertices * 1.5));
+}
+
+TEST(ResultsWriter, XdmfHasOneGridPerCapsuleOverItsRowsOfTheUnion) {
+  TempDir dir;
+  const TwoCapsules c;
+  ResultsWriter w(dir.path(), c.union_mesh, metadata(), c.parts);
+  for (double t : {0.0, 0.5}) write_union_step(w, c, t);
+  const std::string xml = read_text(dir / "run.xmf");
+  EXPECT_TRUE(tags_balanced(xml)) << xml;
+  // One spatial collection per step, holding the step's time.
+  EXPECT_EQ(all_matches(xml, std::regex("<Grid Name=\"(step_\\d+)\" GridType=\"Collection\" "
+                                        "CollectionType=\"Spatial\">")),
+            (std::vector<std::string>{"step_000000", "step_000001"}));
+  EXPECT_EQ(all_matches(xml, std::regex("<Time Value=\"([^\"]*)\"/>")),
+            (std::vector<std::string>{"0", "0.5"}));
+  const auto grids = capsule_grids(xml);
+  ASSERT_EQ(grids.size(), 4u) << xml;  // 2 steps × 2 capsules
+  for (std::size_t i = 0; i < grids.size(); ++i) {
+    const std::string step = i < 2 ? "/steps/000000/" : "/steps/000001/";
+    const auto& [name, slabs] = grids[i];
+    // Start, stride, count per dimension: the capsule's rows, every column. Capsule 1: triangles
+    // and nodes from row 0, 4 of each; capsule 2: triangles from row 4 (8 of them), nodes from
+    // row 4 (6 of them). The scalar is 1-D: one start, stride and count.
+    const std::vector<Slab> expected =
+        i % 2 == 0 ? std::vector<Slab>{{"0 0 1 1 4 3", "/mesh/parts/local_triangles"},
+                                       {"0 0 1 1 4 3", step + "positions"},
+                                       {"0 0 1 1 4 3", step + "velocity"},
+                                       {"0 1 4", step + "tension"}}
+                   : std::vector<Slab>{{"4 0 1 1 8 3", "/mesh/parts/local_triangles"},
+                                       {"4 0 1 1 6 3", step + "positions"},
+                                       {"4 0 1 1 6 3", step + "velocity"},
+                                       {"4 1 6", step + "tension"}};
+    EXPECT_EQ(name, i % 2 == 0 ? "capsule 1" : "capsule 2");  // 1-based, in part order
+    EXPECT_EQ(slabs, expected) << name;
+  }
+  // Every HDF DataItem names a dataset of run.h5 with its full shape (the HyperSlab selects the
+  // rows), as for one surface.
+  const std::regex item("Format=\"HDF\" Dimensions=\"([0-9 ]+)\"[^>]*>run\\.h5:([^<]+)</DataItem>");
+  const std::size_t items = check_data_items(xml, item, dir / "run.h5");
+  EXPECT_EQ(items, 2u * 2u * 4u);  // steps × capsules × (topology, geometry, 2 fields)
+}
+
+// A restart reads the parts back from run.h5: the rewritten run.xmf keeps one grid per capsule,
+// whether run.h5 is trimmed in place or rebuilt (H5Ocopy of /mesh) around a damaged step.
+TEST(ResultsWriter, RestartKeepsOneGridPerCapsule) {
+  for (const bool damage : {false, true}) {
+    SCOPED_TRACE(damage ? "rebuilt" : "trimmed in place");
+    TempDir dir;
+    const TwoCapsules c;
+    {
+      ResultsWriter w(dir.path(), c.union_mesh, metadata(), c.parts);
+      for (double t : {0.0, 0.5}) write_union_step(w, c, t);
+    }
+    if (damage) damage_object_header(dir / "run.h5", "/steps/000001");
+    ResultsWriter w = ResultsWriter::reopen(dir.path(), 0.0);  // keeps the step at t = 0 only
+    EXPECT_EQ(w.run_file_rebuilt(), damage);
+    EXPECT_EQ(w.num_steps(), 1u);
+    EXPECT_EQ(w.parts().nodes, c.parts.nodes);  // read back from /mesh/parts
+    EXPECT_EQ(w.parts().elements, c.parts.elements);
+    const std::string xml = read_text(dir / "run.xmf");
+    EXPECT_TRUE(tags_balanced(xml)) << xml;
+    EXPECT_EQ(all_matches(xml, std::regex("<Time Value=\"([^\"]*)\"/>")), (std::vector<std::string>{"0"}));
+    const auto grids = capsule_grids(xml);
+    ASSERT_EQ(grids.size(), 2u) << xml;  // 1 step × 2 capsules
+    EXPECT_EQ(grids[1].second.at(0), (Slab{"4 0 1 1 8 3", "/mesh/parts/local_triangles"}));
+    {
+      const h5::File f = h5::File::open(dir / "run.h5");
+      EXPECT_EQ(int64_vector(f, "mesh/parts/node_offsets"), c.parts.nodes);
+      EXPECT_EQ(h5::RowMatrixXi(f.read_matrix<int>("mesh/parts/local_triangles").bottomRows(8)),
+                h5::RowMatrixXi(c.octa.triangles));
+    }
+    // The continued run adds the second capsule grid pair at the next step.
+    write_union_step(w, c, 0.25);
+    EXPECT_EQ(capsule_grids(read_text(dir / "run.xmf")).size(), 4u);
+  }
+}
+
+TEST(ResultsWriter, RefusesPartsThatDoNotSplitTheMesh) {
+  TempDir dir;
+  const TwoCapsules c;
+  const auto refusal = [&](const SurfaceMesh& mesh, const MeshParts& parts) -> std::string {
+    try {
+      ResultsWriter(dir.path(), mesh, metadata(), parts);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  // The first capsule must start at node 0: nothing may lie outside every capsule.
+  EXPECT_EQ(refusal(c.union_mesh, {{1, 4, 10}, {0, 4, 12}}),
+            "ResultsWriter: mesh parts: node offsets start at 1, not 0");
+  // The last offset is the union's count (12 triangles).
+  EXPECT_EQ(refusal(c.union_mesh, {{0, 4, 10}, {0, 4, 11}}),
+            "ResultsWriter: mesh parts: element offsets end at 11, not at the mesh's 12 triangles");
+  // Triangle 5 (capsule 2's second) made to use node 0, the tetrahedron's: it crosses capsules,
+  // and would have no local index in capsule 2.
+  SurfaceMesh crossing = c.union_mesh;
+  crossing.triangles(5, 0) = 0;
+  EXPECT_EQ(refusal(crossing, c.parts),
+            "ResultsWriter: mesh parts: triangle 5 of capsule 2 (triangles [4, 12)) uses node 0, "
+            "outside the capsule's nodes [4, 10)");
+  // Refused before anything is written.
+  EXPECT_TRUE(listing(dir.path()).empty());
+}
+
+// One part (the whole mesh) is one surface: the run.h5 layout and run.xmf of a run without parts.
+TEST(ResultsWriter, OnePartIsTheLayoutOfOneSurface) {
+  TempDir with_part, without;
+  const SurfaceMesh mesh = tetrahedron();
+  ResultsWriter a(with_part.path(), mesh, metadata(), MeshParts{{0, 4}, {0, 4}});
+  ResultsWriter b(without.path(), mesh, metadata());
+  write_test_step(a, mesh, 0.0);
+  write_test_step(b, mesh, 0.0);
+  EXPECT_FALSE(h5::File::open(with_part / "run.h5").exists("mesh/parts"));
+  EXPECT_EQ(h5::File::open(with_part / "run.h5").open_group("mesh").children(),
+            (std::vector<std::string>{"reference_positions", "triangles"}));
+  EXPECT_EQ(read_text(with_part / "run.xmf"), read_text(without / "run.xmf"));
+  // Both report one part spanning the mesh's 4 nodes and 4 triangles.
+  EXPECT_EQ(a.parts().nodes, (std::vector<std::int64_t>{0, 4}));
+  EXPECT_EQ(b.parts().elements, (std::vector<std::int64_t>{0, 4}));
 }
 
 TEST(TimeseriesCsv, RestoreRowsChangesNothingWhenNoRowIsMissing) {

@@ -67,7 +67,7 @@ TEST(Suspension, TwoCapsulesFortyRadiiApartMoveAsOneAlone) {
   auto run = [&](double half_distance) {
     const Vec3 d(0, half_distance, 0);
     SuspensionDynamics two(s, SurfaceSet({shifted(ref, d), shifted(ref, -d)}));
-    Points x = two.capsules().mesh().vertices;
+    Points x = two.surfaces().mesh().vertices;
     Heun h;
     for (int k = 0; k < 40; ++k) h.step(two, x, 0.01);
     return Points(x.topRows(ref.num_nodes()).rowwise() - d.transpose());
@@ -98,11 +98,11 @@ TEST(Suspension, PointSymmetricCapsulesStayPointSymmetric) {
   const Eigen::VectorXd along = a.vertices * dir;
   a = shifted(a, (h / 6 - along.minCoeff()) * dir);
   SuspensionDynamics two(s, SurfaceSet({a, reflected(a)}));
-  Points x = two.capsules().mesh().vertices;
+  Points x = two.surfaces().mesh().vertices;
   Heun step;
   for (int k = 0; k < 20; ++k) step.step(two, x, 0.005);
   const Eigen::Index n = a.num_nodes();
-  EXPECT_GT(two.single_layer().cross().pairs(), 0u) << "the capsules are close enough for cross corrections";
+  EXPECT_GT(two.layers().cross().pairs(), 0u) << "the capsules are close enough for cross corrections";
   EXPECT_LT(max_row_norm(x.topRows(n) + x.bottomRows(n)), 1e-12 * max_row_norm(x));
   EXPECT_GT(max_row_norm(x.topRows(n) - a.vertices), 1e-3) << "the capsules moved";
 }
@@ -117,15 +117,15 @@ TEST(Suspension, OverlappingCapsulesAreAFailureNamingBoth) {
     Points v;
     const EvaluationHint hint{EvaluationHint::Role::Trajectory, 0};
     if (overlap < 0) {
-      EXPECT_NO_THROW(two.evaluate(two.capsules().mesh().vertices, v, hint));
-      EXPECT_GT(two.single_layer().cross().pairs(), 0u) << "close enough for cross corrections";
+      EXPECT_NO_THROW(two.evaluate(two.surfaces().mesh().vertices, v, hint));
+      EXPECT_GT(two.layers().cross().pairs(), 0u) << "close enough for cross corrections";
       continue;
     }
     try {
-      two.evaluate(two.capsules().mesh().vertices, v, hint);
+      two.evaluate(two.surfaces().mesh().vertices, v, hint);
       ADD_FAILURE() << "overlapping capsules got a velocity";
     } catch (const SolverFailure& e) {
-      EXPECT_NE(std::string(e.what()).find("capsules 0 and 1 overlap"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("capsules 1 and 2 overlap"), std::string::npos) << e.what();
     }
   }
 }

@@ -43,7 +43,7 @@ std::string docs_table(const std::string& docs, const std::string& section) {
 // scene_keys.cpp fails here until the docs are pasted from the message.
 TEST(SceneKeys, DocsTablesAreTheKeyTable) {
   const std::string docs = read_docs();
-  for (const std::string section : {"mesh", "wall", "flow", "time", "fluid", "output"}) {
+  for (const std::string section : {"mesh", "wall", "flow", "time", "fluid", "output", "layout", "contact"}) {
     const std::string expected = scene_key_table(section);
     EXPECT_EQ(docs_table(docs, section), expected)
         << "docs/scene-and-output.md, table of [" << section << "]: replace it by\n" << expected;
@@ -140,6 +140,8 @@ checkpoint_every = 0
   expected.replace(expected.find("verify_every = 7\n"), 17, "verify_every = 7\nviscosity_ratio = 1\nmax_gmres = 100\nreuse_identity_term = true\n");
   expected.replace(expected.find("fmm_order = 9\n"), 14, "fmm_order = 9\nfmm_leaf_size = 0\n");
   expected.replace(expected.find("geometry = \"curved\"\n"), 20, "geometry = \"curved\"\nfar_rule = \"auto\"\n");
+  // ... and the sections of several capsules, with their defaults (one capsule, no repulsion).
+  expected += "\n[layout]\ncount = 1\ndx = 0\ndy = 0\ndz = 0\n\n[contact]\nrepulsion_range = 0\nrepulsion_strength = 1\nmin_gap = 0.05\n";
   EXPECT_EQ(to_toml(parse_scene(stored, "checkpoint")), expected);
 }
 

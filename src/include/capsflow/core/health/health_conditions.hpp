@@ -5,11 +5,12 @@
 
 namespace capsflow {
 
-enum class HealthCondition { MeshScaleBuckling, UnresolvedFolds, ElementQuality, NoEquilibrium };
-inline constexpr NameTable<HealthCondition, 4> kHealthConditionNames{{{HealthCondition::MeshScaleBuckling, "mesh_scale_buckling"},
+enum class HealthCondition { MeshScaleBuckling, UnresolvedFolds, ElementQuality, NoEquilibrium, SurfaceGap };
+inline constexpr NameTable<HealthCondition, 5> kHealthConditionNames{{{HealthCondition::MeshScaleBuckling, "mesh_scale_buckling"},
                                                                       {HealthCondition::UnresolvedFolds, "unresolved_folds"},
                                                                       {HealthCondition::ElementQuality, "element_quality"},
-                                                                      {HealthCondition::NoEquilibrium, "no_equilibrium"}}};
+                                                                      {HealthCondition::NoEquilibrium, "no_equilibrium"},
+                                                                      {HealthCondition::SurfaceGap, "surface_gap"}}};
 constexpr const auto& name_table(HealthCondition) { return kHealthConditionNames; }
 
 }  // namespace capsflow

@@ -2,6 +2,9 @@
 // The run's output, called by the time integrator (docs/scene-and-output.md §3):
 //
 //   DIR/run.h5          /mesh/triangles (int32 M×3), /mesh/reference_positions (float64 N×3),
+//                       with several capsules also /mesh/parts/{node_offsets, element_offsets}
+//                       (int64 K+1) and /mesh/parts/local_triangles (int32 M×3, each capsule's
+//                       triangles numbering its own nodes from 0: see MeshParts below),
 //                       /metadata, /steps/<k>/{positions, <fields>} with attribute `time`
 //                       (and `csv_row`, the step's timeseries.csv line; /steps has the header
 //                       as `csv_header`: a restart restores CSV rows a crash cut),
@@ -16,6 +19,11 @@
 // run.h5 is opened and closed around every write, never held open between steps: with HDF5
 // >= 1.10 file locking a reader (ParaView, h5py) could otherwise not open it during the run, and
 // a crash leaves a file whose completed steps are all readable.
+//
+// Several capsules are written as one union mesh (MeshParts, declared in xdmf.hpp): capsule k's
+// nodes and triangles are consecutive row ranges of the union, whose triangles hold global node
+// indices, and every nodal field has the union's N rows. /mesh/parts records the ranges, and
+// run.xmf shows each capsule as its own grid. One surface (no parts, or one) has no /mesh/parts.
 //
 // Step groups are named with six zero-padded digits (/steps/000000, /steps/000001, ...) so that
 // sorted names are time order in h5py and h5ls. Nodal fields with 1 column are stored 1-D [N],
@@ -66,8 +74,12 @@ class ResultsWriter {
   // "version", "git_hash", "library_versions" (object), "threads", "build".
   // The writer adds attributes schema_version, hdf5_version, created_utc and hostname itself.
   // An existing timeseries.csv or summary.json in `folder` (an earlier run) is removed.
+  // `parts` splits `reference_mesh` (the union) into capsules; with more than one, run.h5 gets
+  // /mesh/parts. Throws std::invalid_argument, before touching the folder, unless the offsets
+  // start at 0, increase strictly and end at the mesh's counts and every triangle of a capsule
+  // uses only that capsule's nodes.
   ResultsWriter(std::filesystem::path folder, const SurfaceMesh& reference_mesh,
-                const nlohmann::json& metadata);
+                const nlohmann::json& metadata, MeshParts parts = {});
 
   // Restart: open an existing run folder, drop the steps with time > t_restart from run.h5 and
   // run.xmf and the CSV rows with t > t_restart (a step at exactly t_restart is kept: do not
@@ -76,6 +88,7 @@ class ResultsWriter {
   // line, ...) is recorded under /metadata/restarts/<n> with attribute t_restart. A run.h5 with a
   // damaged object after the restart time (a run killed while writing it) is rebuilt from what the
   // restart keeps (run_file_rebuilt()); a damaged one before it is an IoError naming it.
+  // The capsules come back from /mesh/parts (parts()), so run.xmf keeps one grid per capsule.
   static ResultsWriter reopen(std::filesystem::path folder, double t_restart,
                               const nlohmann::json& metadata = nlohmann::json::object());
 
@@ -113,6 +126,9 @@ class ResultsWriter {
   double last_time() const;  // time of the last step; -inf when there is none
   Eigen::Index num_nodes() const;
   Eigen::Index num_triangles() const;
+  // The capsules: K + 1 node and element offsets, K >= 1 (one part spanning the whole mesh for a
+  // run of one surface, whether the constructor was given no parts or one).
+  const MeshParts& parts() const;
 
  private:
   struct State;

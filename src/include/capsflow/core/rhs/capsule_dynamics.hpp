@@ -23,6 +23,7 @@
 #include "capsflow/core/bie/single_layer.hpp"
 #include "capsflow/core/bie/viscosity_ratio.hpp"
 #include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/rhs/capsules_dynamics.hpp"
 #include "capsflow/core/rhs/rhs_counters.hpp"
 #include "capsflow/core/rhs/right_hand_side.hpp"
 #include "capsflow/core/rhs/wall_and_load.hpp"
@@ -30,7 +31,7 @@
 
 namespace capsflow {
 
-class CapsuleDynamics final : public RightHandSide {
+class CapsuleDynamics final : public CapsulesDynamics {
  public:
   // The wall is the scene's (rhs/wall_factory.hpp) unless one is given (tests).
   CapsuleDynamics(const Scene& scene, const SurfaceMesh& reference, int threads = 0,
@@ -48,18 +49,13 @@ class CapsuleDynamics final : public RightHandSide {
 
   // The wall's equilibrium and the load q at x without the fluid: what an output needs when it
   // writes no velocities. Not an evaluation (counted in RhsCounters::wall_solves). Throws SolverFailure.
-  void solve_wall(const Points& x, const EvaluationHint& hint);
+  void solve_wall(const Points& x, const EvaluationHint& hint) override;
 
-  // What an evaluation leaves for the next one: the wall's warm start (its state), the load, the
-  // second-kind solve's warm start. An output between two steps (dense output) evaluates at an
-  // interpolated state and puts this back, so that the trajectory does not depend on the outputs.
-  struct Carry {
-    Eigen::VectorXd wall;
-    Points load;
-    ViscosityRatioSolver::WarmStart viscosity;
-  };
-  Carry carry() const;
-  void restore(Carry c);
+  // What an evaluation leaves for the next one (CapsulesDynamics::Carry, one wall): an output
+  // between two steps (dense output) evaluates at an interpolated state and puts this back, so that
+  // the trajectory does not depend on the outputs.
+  Carry carry() const override;
+  void restore(Carry c) override;
 
   // What the fluid solve carries from one trajectory evaluation to the next, for checkpoints (λ ≠ 1:
   // the second-kind solve's warm start and D̃[1]'s reuse records; nothing at λ = 1): the flags
@@ -67,18 +63,21 @@ class CapsuleDynamics final : public RightHandSide {
   // the residual of the warm start, 3 columns each, then the 24 of the records). A run continued
   // from them continues bit for bit. load_fluid_state takes what fits this right-hand side and
   // leaves the rest to start afresh (a restart that switched the back end).
-  void save_fluid_state(nlohmann::json& extra, Eigen::MatrixXd& matrix) const;
-  void load_fluid_state(const nlohmann::json& extra, const Eigen::MatrixXd& matrix);
+  void save_fluid_state(nlohmann::json& extra, Eigen::MatrixXd& matrix) const override;
+  void load_fluid_state(const nlohmann::json& extra, const Eigen::MatrixXd& matrix) override;
 
-  const Points& load() const { return wall_load_.load(); }
+  int capsules() const override { return 1; }
+  const Points& load() const override { return wall_load_.load(); }
   shell::Wall& wall() { return wall_load_.wall(); }
   const shell::Wall& wall() const { return wall_load_.wall(); }
-  const SingleLayer& single_layer() const { return bie_; }
+  shell::Wall& wall_of(int) override { return wall_load_.wall(); }
+  const shell::Wall& wall_of(int) const override { return wall_load_.wall(); }
+  const SingleLayer& single_layer() const override { return bie_; }
   // The second-kind solve (λ ≠ 1), or null.
-  const ViscosityRatioSolver* viscosity_ratio_solver() const { return viscosity_.get(); }
+  const ViscosityRatioSolver* viscosity_ratio_solver() const override { return viscosity_.get(); }
   // Seconds per phase, the boundary integral's phases included.
-  PhaseTimes times() const;
-  const RhsCounters& counters() const { return counters_; }
+  PhaseTimes times() const override;
+  const RhsCounters& counters() const override { return counters_; }
   const Mat3& gradient() const { return L_; }
 
  private:

@@ -11,12 +11,12 @@
 // Surfaces never cross silently: a state with a node of one capsule behind the nearest element of
 // another (found within 3 element sizes of its surface, as surfaces approach) throws SolverFailure
 // naming both capsules.
-// Not yet in a scene: capsflow run has one capsule.
 #include <vector>
 
 #include "capsflow/core/bie/multi_surface_single_layer.hpp"
 #include "capsflow/core/geometry/surface_set.hpp"
 #include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/rhs/capsules_dynamics.hpp"
 #include "capsflow/core/rhs/rhs_counters.hpp"
 #include "capsflow/core/rhs/right_hand_side.hpp"
 #include "capsflow/core/rhs/wall_and_load.hpp"
@@ -35,7 +35,7 @@ struct ContactRepulsion {
   double strength = 1;
 };
 
-class SuspensionDynamics final : public RightHandSide {
+class SuspensionDynamics final : public CapsulesDynamics {
  public:
   // One scene for every capsule (wall, flow and fluid keys); `capsules` holds their reference
   // surfaces, placed where they start. Throws std::invalid_argument at a viscosity ratio ≠ 1, or a
@@ -44,16 +44,31 @@ class SuspensionDynamics final : public RightHandSide {
 
   void evaluate(const Points& x, Points& v, const EvaluationHint& hint) override;
 
-  const SurfaceSet& capsules() const { return set_; }
-  const Points& load() const { return q_; }  // every capsule's, in the union's rows
-  shell::Wall& wall(int k) { return walls_.at(static_cast<std::size_t>(k)).wall(); }
-  const MultiSurfaceSingleLayer& single_layer() const { return bie_; }
-  const RhsCounters& counters() const { return counters_; }
+  void solve_wall(const Points& x, const EvaluationHint& hint) override;
+  Carry carry() const override;
+  void restore(Carry c) override;
+  // At λ = 1 the fluid carries nothing from one evaluation to the next.
+  void save_fluid_state(nlohmann::json&, Eigen::MatrixXd& matrix) const override { matrix.resize(0, 0); }
+  void load_fluid_state(const nlohmann::json&, const Eigen::MatrixXd&) override {}
+
+  int capsules() const override { return set_.size(); }
+  const SurfaceSet& surfaces() const { return set_; }
+  const Points& load() const override { return q_; }  // every capsule's, in the union's rows
+  shell::Wall& wall_of(int k) override { return walls_.at(static_cast<std::size_t>(k)).wall(); }
+  const shell::Wall& wall_of(int k) const override { return walls_.at(static_cast<std::size_t>(k)).wall(); }
+  const SingleLayer& single_layer() const override { return bie_.layer(); }
+  const ViscosityRatioSolver* viscosity_ratio_solver() const override { return nullptr; }
+  const MultiSurfaceSingleLayer& layers() const { return bie_; }
+  const RhsCounters& counters() const override { return counters_; }
+  // The closest approach between two capsules at positions x (a cross search; kNone beyond three
+  // element sizes), with the nodes of one inside another.
+  const CrossNearField& gaps_at(const Points& x);
   // The repulsion's nodal forces of the last evaluation (union rows; empty when off).
   const Points& contact_forces() const { return contact_force_; }
-  PhaseTimes times() const;
+  PhaseTimes times() const override;
 
  private:
+  void solve_walls(const Points& x, const EvaluationHint& hint, bool contact, Stopwatch& clock);  // q_ at x
   void repulsion(const Points& x);  // contact_force_ from the cross search on x
 
   SurfaceSet set_;

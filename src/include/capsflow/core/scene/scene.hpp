@@ -95,6 +95,27 @@ struct OutputSpec {
   double checkpoint_every;                  // in γ̇t; 0 disables periodic checkpoints
 };
 
+// Several capsules in a row, centred on the origin ([layout]; `capsflow study` can vary its scalars):
+// capsule k = 0 … count − 1 is the mesh moved by (k − (count − 1)/2)·(dx, dy, dz).
+struct LayoutSpec {
+  LayoutSpec();
+  int count;
+  double dx, dy, dz;  // centre-to-centre step, in ℓ
+};
+
+// One capsule of a [[capsule]] array: the mesh moved to `center` (in ℓ).
+struct CapsuleSpec {
+  Vec3 center = Vec3::Zero();
+};
+
+// Where several capsules meet ([contact]; rhs/suspension_dynamics.hpp, health/surface_gap_watch.hpp).
+struct ContactSpec {
+  ContactSpec();
+  double repulsion_range;     // element sizes; 0: no repulsion
+  double repulsion_strength;  // nodal force at zero gap, in μγ̇ℓ²
+  double min_gap;             // element sizes: below it the surface_gap condition begins
+};
+
 struct Scene {
   Scene();                                    // the defaults, resolved (= the scene of an empty file)
   std::string source = "<built-in default>";  // file the scene came from
@@ -105,7 +126,13 @@ struct Scene {
   TimeSpec time;
   FluidSpec fluid;
   OutputSpec output;
+  LayoutSpec layout;
+  ContactSpec contact;
+  std::vector<CapsuleSpec> capsules;          // [[capsule]] as given; empty: [layout]'s row
   bool wants_field(OutputField f) const;
+  // The capsules' centres: the [[capsule]] array, else [layout]'s row ({0, 0, 0} for one capsule:
+  // the mesh where it is).
+  std::vector<Vec3> capsule_centers() const;
 };
 
 // One key set on the command line: "section.key=value", and the option that gave it, which
