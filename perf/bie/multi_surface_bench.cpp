@@ -41,6 +41,14 @@ std::vector<Vec3> lattice(int K, double s) {
 
 }  // namespace
 
+// The single layer's phases (near, far, sources, ...) per evaluation, from its cumulative times.
+nlohmann::json phases_per_evaluation(const PhaseTimes& t, int evaluations) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t i = 0; i < kPhaseNames.size(); ++i)
+    if (const double s = t[static_cast<Phase>(i)]; s > 0) j[kPhaseNames[i]] = s / evaluations;
+  return j;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"single layer over several surfaces: cost against one surface"};
   int level = 4, repeat = 5, threads = 0;
@@ -111,6 +119,7 @@ int main(int argc, char** argv) {
                      {"cross_pairs", S.cross().pairs()},
                      {"cross_median_seconds", median(cross)},
                      {"closest_gap_in_h", S.closest().ratio},
+                     {"phase_seconds_per_evaluation", phases_per_evaluation(S.layer().times(), repeat + 1)},
                      {"git", git_hash()}};
     fmt::print("{}\n", j.dump());
   }

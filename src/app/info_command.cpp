@@ -46,9 +46,10 @@ int info_command(const InfoOptions& opt) {
   fmt::print("L (extents)     {:.4f} {:.4f} {:.4f}\n", num(m["L"][0]), num(m["L"][1]), num(m["L"][2]));
   fmt::print("D12 D13 D23     {:.4f} {:.4f} {:.4f}\n", num(m["D12"]), num(m["D13"]), num(m["D23"]));
   if (info.contains("capsules"))
-    fmt::print("capsules        {} of this mesh: {} elements, {} nodes in all (docs/several-capsules.md)\n",
-               info["capsules"]["count"].get<long>(), info["capsules"]["elements"].get<long>(),
-               info["capsules"]["nodes"].get<long>());
+    fmt::print("capsules        {}{}: {} elements, {} nodes in all (docs/several-capsules.md)\n",
+               info["capsules"]["count"].get<long>(),
+               info["capsules"]["alike"].get<bool>() ? " of this mesh" : " (the mesh above is capsule 1's; some have keys of their own)",
+               info["capsules"]["elements"].get<long>(), info["capsules"]["nodes"].get<long>());
   fmt::print("\n# run\n");
   const nlohmann::json& r = info["run"];
   fmt::print("back end        {} ({})\n", r["backend"].get<std::string>(), r["backend_reason"].get<std::string>());

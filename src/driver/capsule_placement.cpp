@@ -2,16 +2,23 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+
 #include <stdexcept>
 
 #include "capsflow/core/bie/cross_near_field.hpp"
+#include "capsflow/core/mesh/reference_mesh.hpp"
 
 namespace capsflow {
 
-SurfaceSet place_capsules(const Scene& scene, const SurfaceMesh& one) {
+SurfaceSet place_capsules(const Scene& scene) {
+  const SurfaceMesh shared = make_reference_mesh(scene.mesh);
   std::vector<SurfaceMesh> parts;
-  for (const Vec3& c : scene.capsule_centers()) {
-    SurfaceMesh m = one;
+  const std::vector<Vec3> centers = scene.capsule_centers();
+  for (std::size_t k = 0; k < centers.size(); ++k) {
+    const Vec3& c = centers[k];
+    const bool own = k < scene.capsules.size() && scene.capsules[k].mesh;
+    SurfaceMesh m = own ? make_reference_mesh(*scene.capsules[k].mesh) : shared;
     if (!c.isZero()) m.vertices.rowwise() += c.transpose();  // zero: untouched (−0.0 stays −0.0)
     parts.push_back(std::move(m));
   }

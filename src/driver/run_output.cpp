@@ -131,17 +131,27 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
                            {"tank_treading", w.last_tank_treading}});
   } else {  // each capsule's columns prefixed "c<k>." (docs/several-capsules.md), then the run's
     const Vec3 common = volume_moments(x, ref.triangles).centroid;
+    // The velocities at x, where this row evaluated them (the state's, or asked for by output.fields).
+    const bool moving = at_state || scene.wants_field(OutputField::Velocity);
     for (int k = 0; k < capsules(); ++k) {
-      const CapsuleWatch& w = watch[static_cast<std::size_t>(k)];
+      CapsuleWatch& w = watch[static_cast<std::size_t>(k)];
       const ShapeDiagnostics& s = w.last_shape;
-      // The lab frame moves every capsule alike: its centroid is the common one plus its offset from it.
+      // The lab frame moves every capsule alike: its centroid is the common one plus its offset from
+      // it, and its velocity the frame's L c̄_lab (geometry/lab_centroid.hpp) plus its own in the frame.
+      const SurfacePart& part = surfaces->part(k);
       const Vec3 c = centroid + (volume_moments(capsule_mesh(x, k)).centroid - common);
+      w.last_velocity = moving ? Vec3(scene.flow.gradient * centroid +
+                                      centroid_rate(x.middleRows(part.node_begin, part.nodes), surfaces->local_triangles(k),
+                                                    v_out.middleRows(part.node_begin, part.nodes)))
+                               : Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+      const Vec3& u = w.last_velocity;
       const std::string p = fmt::format("c{}.", k + 1);
       row.insert(row.end(), {{p + "D12", s.D.D12}, {p + "D13", s.D.D13}, {p + "D23", s.D.D23},
                              {p + "Le1", s.Le[0]}, {p + "Le2", s.Le[1]}, {p + "Le3", s.Le[2]},
                              {p + "L1", s.L[0]}, {p + "L2", s.L[1]}, {p + "L3", s.L[2]},
                              {p + "area", s.area}, {p + "volume", s.volume}, {p + "volume_drift", s.volume / w.volume0 - 1},
                              {p + "centroid1", c[0]}, {p + "centroid2", c[1]}, {p + "centroid3", c[2]},
+                             {p + "velocity1", u[0]}, {p + "velocity2", u[1]}, {p + "velocity3", u[2]},
                              {p + "E_membrane", en[k].membrane}, {p + "E_bending", en[k].bending}, {p + "E_shear", en[k].shear},
                              {p + "D_flow", w.last_plane_shape.D}, {p + "theta", w.last_plane_shape.theta * 180 / M_PI},
                              {p + "tank_treading", w.last_tank_treading}});

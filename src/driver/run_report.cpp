@@ -106,13 +106,17 @@ nlohmann::json Simulation::Impl::capsule_summary(int k) const {
   // The lab frame moves every capsule alike (run_output.cpp).
   const Vec3 c = capsules() == 1 ? st.centroid_lab
                                  : Vec3(st.centroid_lab + volume_moments(capsule_mesh(st.x, k)).centroid - st.centroid_frame);
-  return {{"centroid", {c[0], c[1], c[2]}},
+  const Vec3& u = w.last_velocity;
+  const nlohmann::json velocity = u.allFinite() ? nlohmann::json{u[0], u[1], u[2]} : nlohmann::json();
+  nlohmann::json entry = {{"centroid", {c[0], c[1], c[2]}},
           {"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
           {"L", {s.L[0], s.L[1], s.L[2]}}, {"Le", {s.Le[0], s.Le[1], s.Le[2]}},
           {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / w.volume0 - 1},
           {"D_flow", w.last_plane_shape.D}, {"theta", w.last_plane_shape.theta * 180 / M_PI},
           {"tank_treading", std::isfinite(w.last_tank_treading) ? nlohmann::json(w.last_tank_treading) : nlohmann::json()},
           {"health", w.health->summary()}};
+  if (capsules() > 1) entry["velocity"] = velocity;  // the last row's (one capsule: not computed)
+  return entry;
 }
 
 nlohmann::json Simulation::Impl::summary() const {

@@ -72,18 +72,19 @@ void Simulation::Impl::choose_time_plan(const io::CheckpointState& ck) {
       return;
     }
   }
-  plan = resolve_time_plan(scene, capsule_mesh(ref.vertices, 0));  // every capsule has the scene's mesh
+  plan = resolve_time_plan(scene, *surfaces);  // several capsules: the stiffest's
 }
 
 void Simulation::Impl::make_stepper() {
   stepper_tolerance = tolerance_in_force();
   if (capsules() == 1) {
-    stepper = make_time_stepper(scene, plan, stepper_tolerance, ref.triangles, st.volume0, st.x);
+    stepper = make_time_stepper(scene.capsule_scene(0), plan, stepper_tolerance, ref.triangles, st.volume0, st.x);
     return;
   }
   std::vector<double> volumes0;
   for (const CapsuleWatch& w : watch) volumes0.push_back(w.volume0);
-  stepper = make_time_stepper(scene, plan, stepper_tolerance, *surfaces, volumes0, st.x);
+  stepper = make_time_stepper(scene.capsule_scene(stiffest_capsule(scene, *surfaces)), plan, stepper_tolerance, *surfaces,
+                              volumes0, st.x);
 }
 
 SurfaceMesh Simulation::Impl::capsule_mesh(const Points& x, int k) const {
@@ -121,7 +122,7 @@ void Simulation::Impl::make_parts() {
   suspension = nullptr;
   gap.reset();
   if (capsules() == 1) {
-    dyn = std::make_unique<CapsuleDynamics>(scene, ref, threads);
+    dyn = std::make_unique<CapsuleDynamics>(scene.capsule_scene(0), ref, threads);
   } else {
     auto several = std::make_unique<SuspensionDynamics>(
         scene, *surfaces, threads, ContactRepulsion{scene.contact.repulsion_range, scene.contact.repulsion_strength});
@@ -142,7 +143,7 @@ void Simulation::Impl::make_parts() {
   for (int k = 0; k < capsules(); ++k) {
     CapsuleWatch& w = watch.emplace_back();
     const SurfaceMesh reference = capsule_mesh(ref.vertices, k);
-    w.health = std::make_unique<HealthMonitor>(scene, reference);
+    w.health = std::make_unique<HealthMonitor>(scene.capsule_scene(k), reference);
     w.tank_treading = std::make_unique<TankTreadingMeter>(plane);
     w.volume0 = enclosed_volume(reference);
   }
@@ -205,7 +206,7 @@ std::filesystem::path folder_to_write(const RunOptions& opt) {
 void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
   namespace fs = std::filesystem;
   if (opt.restart.empty()) {  // a bad mesh or overlapping capsules are refused before any folder exists
-    SurfaceSet set = place_capsules(opt.scene, make_reference_mesh(opt.scene.mesh));
+    SurfaceSet set = place_capsules(opt.scene);
     check_capsules_apart(opt.scene, set);
     ref = set.mesh();
     surfaces = std::make_unique<SurfaceSet>(std::move(set));
@@ -339,8 +340,9 @@ void Simulation::Impl::log_set_up() const {
                ref.num_nodes(), to_string(scene.wall.model), shell::to_string(scene.wall.law), to_string(scene.flow.type),
                scene.flow.ca_s);
   if (capsules() > 1)
-    spdlog::info("{} capsules of {} elements each (docs/several-capsules.md), repulsion {}", capsules(),
-                 surfaces->part(0).elements,
+    spdlog::info("{} capsules, {} (docs/several-capsules.md), repulsion {}", capsules(),
+                 scene.capsules_alike() ? fmt::format("{} elements each", surfaces->part(0).elements)
+                                        : fmt::format("{} elements in all, some with keys of their own", ref.num_elements()),
                  scene.contact.repulsion_range > 0 ? fmt::format("within {:g} element sizes", scene.contact.repulsion_range)
                                                    : std::string("off"));
   spdlog::info("boundary integral: {} ({})", to_string(dyn->single_layer().backend()), dyn->single_layer().backend_reason());

@@ -76,6 +76,7 @@ struct CapsuleWatch {
   ShapeDiagnostics last_shape;
   InPlaneShape last_plane_shape;
   double last_tank_treading = std::numeric_limits<double>::quiet_NaN();
+  Vec3 last_velocity = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());  // lab; NaN: not evaluated
   double volume0 = 0;  // of its reference
 };
 

@@ -71,6 +71,27 @@ VolumeMoments volume_moments(const Points& x, const Triangles& triangles) {
   return m;
 }
 
+Vec3 centroid_rate(const Points& x, const Triangles& triangles, const Points& v) {
+  // c = o + F/V over the tetrahedra (o, facet) as in volume_moments; o is held fixed (c does not
+  // depend on it), so dc = (dF − (F/V) dV)/V with each tetrahedron's dV and dF along v.
+  const Vec3 o = x.colwise().mean().transpose();
+  double vol = 0, dvol = 0;
+  Vec3 first = Vec3::Zero(), dfirst = Vec3::Zero();
+  for (Eigen::Index e = 0; e < triangles.rows(); ++e) {
+    const Vec3 a = x.row(triangles(e, 0)).transpose() - o, b = x.row(triangles(e, 1)).transpose() - o,
+               c = x.row(triangles(e, 2)).transpose() - o;
+    const Vec3 wa = v.row(triangles(e, 0)).transpose(), wb = v.row(triangles(e, 1)).transpose(),
+               wc = v.row(triangles(e, 2)).transpose();
+    const double vt = a.dot(b.cross(c)) / 6.0;
+    const double dvt = (wa.dot(b.cross(c)) + a.dot(wb.cross(c)) + a.dot(b.cross(wc))) / 6.0;
+    vol += vt;
+    dvol += dvt;
+    first += vt * (a + b + c) / 4.0;
+    dfirst += (dvt * (a + b + c) + vt * (wa + wb + wc)) / 4.0;
+  }
+  return (dfirst - (first / vol) * dvol) / vol;
+}
+
 Vec3 half_extents(const SurfaceMesh& mesh) {
   return 0.5 * (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).transpose();
 }

@@ -36,9 +36,11 @@ int stabilized_stages(TimeScheme scheme, double tau_rho) {
 }  // namespace
 
 nlohmann::json scene_info(const Scene& scene, bool probe) {
-  const SurfaceMesh mesh = make_reference_mesh(scene.mesh);
+  // Several capsules: the mesh section is capsule 1's, the run's counts are all capsules'.
+  const SurfaceSet placed = place_capsules(scene);
+  const SurfaceMesh mesh = placed.size() == 1 ? placed.mesh() : placed.part_mesh(placed.mesh().vertices, 0);
   const MeshStats st = mesh_stats(mesh);
-  const TimePlan plan = resolve_time_plan(scene, mesh);  // as the run will
+  const TimePlan plan = resolve_time_plan(scene, placed);  // as the run will
   nlohmann::json info;
   info["source"] = scene.source;
   info["scene_toml"] = to_toml(scene);  // as given: "auto" stays "auto" (run.time_plan says what it chose)
@@ -67,13 +69,15 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   // curved element (docs/boundary-integral.md §4.2.1).
   const SingleLayerOptions sl_options = boundary_integral_options(scene);
   // Several capsules: one far field over all of them (docs/several-capsules.md), K times the sources.
-  const auto capsules = static_cast<Eigen::Index>(scene.capsule_centers().size());
-  const Eigen::Index sources = capsules * far_field_source_count(sl_options, mesh.num_elements(), mesh_edges(mesh).rows());
-  const FarFieldBackend b = choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer, sources,
-                                           capsules * mesh.num_nodes(), scene.fluid.tolerance, &why);
+  const int capsules = placed.size();
+  const SurfaceMesh& all = placed.mesh();
+  const Eigen::Index all_edges = mesh_edges(all).rows();
+  const Eigen::Index sources = far_field_source_count(sl_options, all.num_elements(), all_edges);
+  const FarFieldBackend b = choose_backend(scene.fluid.backend, FarFieldKernel::SingleLayer, sources, all.num_nodes(),
+                                           scene.fluid.tolerance, &why);
   if (capsules > 1)
-    info["capsules"] = {{"count", capsules}, {"elements", capsules * mesh.num_elements()},
-                        {"nodes", capsules * mesh.num_nodes()}};
+    info["capsules"] = {{"count", capsules}, {"elements", all.num_elements()}, {"nodes", all.num_nodes()},
+                        {"alike", scene.capsules_alike()}};
   run["backend"] = to_string(b);
   run["backend_reason"] = why;
   const FarFieldTolerance tol = far_field_tolerance(scene);
@@ -95,20 +99,23 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
                               {"near_field_mb", dl.near_field_megabytes}, {"max_gmres", scene.fluid.max_gmres},
                               {"double_layer_backend", to_string(dl_backend)}, {"double_layer_backend_reason", dl_why}};
   }
-  const StabilityEstimate se = stability_estimate(scene, st.edge_min);
+  // The stable step and ρ of the stiffest capsule (one capsule: its own).
+  const int stiff = stiffest_capsule(scene, placed);
+  const Scene own = scene.capsule_scene(stiff);
+  const double edge_min = capsules == 1 ? st.edge_min : min_edge_length(placed.part_mesh(all.vertices, stiff));
+  const StabilityEstimate se = stability_estimate(own, edge_min);
   run["stable_dt"] = {{"limit", se.limit()}, {"membrane", se.membrane}, {"bending", se.bending}, {"flow", se.flow},
                       {"limited_by", se.limiting()}};
-  const double rho_analytic = analytic_spectral_radius(scene, st.edge_min);
+  const double rho_analytic = analytic_spectral_radius(own, edge_min);
   double rho = rho_analytic, seconds_per_eval = NAN;
   double power_evaluations = 10;  // per ρ refresh, when not measured (--probe)
-  const bool probed = probe || capsules * mesh.num_elements() <= kInfoProbeElements;
+  const bool probed = probe || all.num_elements() <= kInfoProbeElements;
   nlohmann::json radius_info = {{"analytic", rho_analytic}, {"margin", kSpectralRadiusMargin}};
   if (probed) {
     // The run's right-hand side on the run's start: every capsule where the run places it.
-    const SurfaceSet placed = place_capsules(scene, mesh);
-    const Points& x0 = placed.mesh().vertices;
+    const Points& x0 = all.vertices;
     std::unique_ptr<CapsulesDynamics> rhs;
-    if (capsules == 1) rhs = std::make_unique<CapsuleDynamics>(scene, mesh);
+    if (capsules == 1) rhs = std::make_unique<CapsuleDynamics>(scene.capsule_scene(0), mesh);
     else rhs = std::make_unique<SuspensionDynamics>(scene, placed, 0,
                                                     ContactRepulsion{scene.contact.repulsion_range, scene.contact.repulsion_strength});
     CapsulesDynamics& dyn = *rhs;
@@ -183,8 +190,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   }
   run["time_step"]["t_end"] = scene.time.t_end;
   // The peak memory (info/memory_estimate.hpp), for the counts of all capsules together.
-  const MemoryEstimate memory =
-      estimate_peak_memory(scene, MeshCounts{capsules * st.elements, capsules * st.nodes, capsules * st.edges});
+  const MemoryEstimate memory = estimate_peak_memory(scene, MeshCounts{all.num_elements(), all.num_nodes(), all_edges});
   run["memory_mb"] = memory.total_mb();
   run["memory_double_layer_mb"] = memory.double_layer_mb;
   info["run"] = run;

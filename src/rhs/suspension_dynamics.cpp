@@ -26,7 +26,7 @@ SuspensionDynamics::SuspensionDynamics(const Scene& scene, const SurfaceSet& cap
     throw std::invalid_argument("several capsules: fluid.viscosity_ratio must be 1 (the double layer over several "
                                 "surfaces is not implemented)");
   walls_.reserve(static_cast<std::size_t>(set_.size()));
-  for (int k = 0; k < set_.size(); ++k) walls_.emplace_back(scene, set_.part_mesh(set_.mesh().vertices, k));
+  for (int k = 0; k < set_.size(); ++k) walls_.emplace_back(scene.capsule_scene(k), set_.part_mesh(set_.mesh().vertices, k));
   x_part_.resize(static_cast<std::size_t>(set_.size()));
   q_.resize(set_.mesh().num_nodes(), 3);
 }

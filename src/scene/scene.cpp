@@ -3,6 +3,7 @@
 #include "capsflow/core/io/input_file.hpp"
 
 #include <fmt/core.h>
+#include <fmt/ranges.h>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -54,13 +55,23 @@ std::string line_of(const std::string& name, const toml::node& n) {
   return n.source().begin.line > 0 ? name + ":" + std::to_string(n.source().begin.line) + ": " : name + ": ";
 }
 
-// The [[capsule]] array: each table's centre; every other key, a wrong type or a count outside
-// [1, 1000] is refused naming the capsule (1-based) and the key. The array leaves `root` (the
-// key table's check knows only the sections).
-std::vector<CapsuleSpec> take_capsule_array(toml::table& root, const std::string& name) {
-  std::vector<CapsuleSpec> out;
-  toml::node* node = root.get("capsule");
-  if (!node) return out;
+// The [[capsule]] array as given: each table's centre and its [mesh] and [wall] sub-tables (read
+// against the scene's sections once those are known: read_capsule_sections). A wrong type, any other
+// key or a count outside [1, 1000] is refused naming the capsule (1-based) and the key. The array
+// leaves `root` (the key table's check knows only the sections).
+struct RawCapsule {
+  CapsuleSpec spec;
+  const toml::table* table = nullptr;  // the capsule's table: its "mesh", "wall" sub-tables
+  std::string where;                   // "s.toml:12: capsule 2: "
+};
+
+// `holder` takes the array out of `root` (the nodes keep their lines for the messages).
+std::vector<RawCapsule> take_capsule_array(toml::table& root, toml::table& holder, const std::string& name) {
+  std::vector<RawCapsule> out;
+  if (!root.get("capsule")) return out;
+  holder.insert("capsule", std::move(*root.get("capsule")));
+  root.erase("capsule");
+  toml::node* node = holder.get("capsule");
   const std::string at = line_of(name, *node);
   const toml::array* arr = node->as_array();
   if (arr && arr->empty()) throw SceneError(at + "capsule: an empty array: give one [[capsule]] table per capsule, or none");
@@ -71,27 +82,54 @@ std::vector<CapsuleSpec> take_capsule_array(toml::table& root, const std::string
   int k = 0;
   for (const toml::node& t : *arr) {
     ++k;
-    const std::string here = line_of(name, t) + fmt::format("capsule {}: ", k);
-    CapsuleSpec c;
+    RawCapsule c;
+    c.table = t.as_table();
+    c.where = line_of(name, t) + fmt::format("capsule {}: ", k);
     bool centered = false;
     for (const auto& [key, val] : *t.as_table()) {
       const std::string kname(key.str());
-      if (kname != "center") throw SceneError(here + "unknown key '" + kname + "' (known in [[capsule]]: center)");
+      if (kname == "mesh" || kname == "wall") {
+        if (!val.is_table()) throw SceneError(c.where + kname + ": expected a table of " + kname + " keys");
+        continue;
+      }
+      if (kname != "center")
+        throw SceneError(c.where + "unknown key '" + kname + "' (known in [[capsule]]: center, and [capsule.mesh], [capsule.wall] tables)");
       const toml::array* v = val.as_array();
       bool ok = v && v->size() == 3;
       for (std::size_t i = 0; ok && i < 3; ++i) {
         const toml::node& e = *v->get(i);
         ok = e.is_number() && std::isfinite(e.value<double>().value_or(NAN));
-        if (ok) c.center[static_cast<Eigen::Index>(i)] = e.value<double>().value_or(0);
+        if (ok) c.spec.center[static_cast<Eigen::Index>(i)] = e.value<double>().value_or(0);
       }
-      if (!ok) throw SceneError(here + "center: expected an array of 3 finite numbers [x, y, z]");
+      if (!ok) throw SceneError(c.where + "center: expected an array of 3 finite numbers [x, y, z]");
       centered = true;
     }
-    if (!centered) throw SceneError(here + "center: required (the capsule's position [x, y, z], in ℓ)");
-    out.push_back(c);
+    if (!centered) throw SceneError(c.where + "center: required (the capsule's position [x, y, z], in ℓ)");
+    out.push_back(std::move(c));
   }
-  root.erase("capsule");
   return out;
+}
+
+// A capsule's [mesh] and [wall] keys over the scene's sections, checked by the key table; a
+// refusal names the capsule first.
+void read_capsule_sections(const RawCapsule& raw, const Scene& scene, const std::string& name, CapsuleSpec& c) {
+  const TomlReader r(*raw.table, name, {});
+  const auto read = [&](const std::string& section, const auto& keys, auto spec) {
+    std::set<std::string> known;
+    for (const auto& k : keys) known.insert(k.name);
+    for (const auto& [key, val] : *raw.table->get(section)->as_table())
+      if (!known.count(std::string(key.str())))
+        r.fail(section, std::string(key.str()),
+               "unknown key (known in [" + section + "]: " + fmt::format("{}", fmt::join(known, ", ")) + ")");
+    for (const auto& k : keys) k.read(r, section, spec);
+    return spec;
+  };
+  try {
+    if (raw.table->contains("mesh")) c.mesh = read("mesh", mesh_keys().keys, scene.mesh);
+    if (raw.table->contains("wall")) c.wall = read("wall", wall_keys().keys, scene.wall);
+  } catch (const SceneError& e) {  // "s.toml:14: wall.thickness: …" → "capsule 2: s.toml:14: wall.thickness: …"
+    throw SceneError(raw.where.substr(raw.where.find("capsule ")) + e.what());
+  }
 }
 
 // Plain "key=value" strings are --set's.
@@ -104,6 +142,23 @@ std::vector<SceneOverride> set_options(const std::vector<std::string>& assignmen
 }  // namespace
 
 Scene::Scene() { derive(*this); }
+
+Scene Scene::capsule_scene(int k) const {
+  Scene s = *this;
+  if (k < static_cast<int>(capsules.size())) {
+    const CapsuleSpec& c = capsules[static_cast<std::size_t>(k)];
+    if (c.mesh) s.mesh = *c.mesh;
+    if (c.wall) s.wall = *c.wall;
+    derive(s);
+  }
+  return s;
+}
+
+bool Scene::capsules_alike() const {
+  for (const CapsuleSpec& c : capsules)
+    if (c.mesh || c.wall) return false;
+  return true;
+}
 
 std::vector<Vec3> Scene::capsule_centers() const {
   std::vector<Vec3> out;
@@ -172,7 +227,8 @@ Scene parse_scene_with(const std::string& toml_text, const std::string& name, co
       if (toml::table* t = root.get(key.substr(0, key.find('.')))->as_table()) t->erase(alt);
   }
   Scene sc;
-  sc.capsules = take_capsule_array(root, name);
+  toml::table capsule_array;
+  const std::vector<RawCapsule> raw_capsules = take_capsule_array(root, capsule_array, name);
   const TomlReader r(root, name, overridden);
   r.check_known(known_keys());
 
@@ -180,6 +236,10 @@ Scene parse_scene_with(const std::string& toml_text, const std::string& name, co
     auto& spec = sc.*sec.member;
     for (const auto& k : sec.keys) k.read(r, sec.name, spec);
   });
+  for (const RawCapsule& c : raw_capsules) {
+    sc.capsules.push_back(c.spec);
+    read_capsule_sections(c, sc, name, sc.capsules.back());
+  }
   derive(sc);
   check_rules(r, sc);
   if (!sc.capsules.empty() && sc.layout.count > 1)
@@ -239,8 +299,15 @@ Scene load_scene_with(const std::string& path, const std::vector<SceneOverride>&
   // together); given on the command line it is relative to the working directory, like any argument.
   bool file_overridden = false;
   for (const auto& o : overrides) file_overridden = file_overridden || o.assignment.rfind("mesh.file=", 0) == 0;
-  if (!sc.mesh.file.empty() && !file_overridden && std::filesystem::path(sc.mesh.file).is_relative())
-    sc.mesh.file = (std::filesystem::path(path).parent_path() / sc.mesh.file).lexically_normal().string();
+  const auto resolve = [&path](std::string& file) {
+    if (!file.empty() && std::filesystem::path(file).is_relative())
+      file = (std::filesystem::path(path).parent_path() / file).lexically_normal().string();
+  };
+  if (!file_overridden) {
+    resolve(sc.mesh.file);
+    for (CapsuleSpec& c : sc.capsules)  // a capsule's own mesh file too, like [mesh]'s
+      if (c.mesh) resolve(c.mesh->file);
+  }
   return sc;
 }
 
@@ -269,7 +336,14 @@ nlohmann::json to_json(const Scene& s) {
   });
   if (!s.capsules.empty()) {
     j["capsule"] = nlohmann::json::array();
-    for (const CapsuleSpec& c : s.capsules) j["capsule"].push_back({{"center", {c.center[0], c.center[1], c.center[2]}}});
+    for (const CapsuleSpec& c : s.capsules) {
+      nlohmann::json e = {{"center", {c.center[0], c.center[1], c.center[2]}}};
+      if (c.mesh)
+        for (const auto& k : mesh_keys().keys) e["mesh"][k.name] = k.to_json(*c.mesh);
+      if (c.wall)
+        for (const auto& k : wall_keys().keys) e["wall"][k.name] = k.to_json(*c.wall);
+      j["capsule"].push_back(e);
+    }
   }
   return j;
 }
@@ -283,8 +357,16 @@ std::string to_toml(const Scene& s) {
     for (const auto& k : sec.keys)
       if (const std::optional<std::string> v = k.to_toml(s.*sec.member)) out += k.name + " = " + *v + "\n";
   });
-  for (const CapsuleSpec& c : s.capsules)
+  const auto section = [&out](const std::string& name, const auto& keys, const auto& spec) {
+    out += "[capsule." + name + "]\n";
+    for (const auto& k : keys)
+      if (const std::optional<std::string> v = k.to_toml(spec)) out += k.name + " = " + *v + "\n";
+  };
+  for (const CapsuleSpec& c : s.capsules) {
     out += fmt::format("\n[[capsule]]\ncenter = [{}, {}, {}]\n", c.center[0], c.center[1], c.center[2]);
+    if (c.mesh) section("mesh", mesh_keys().keys, *c.mesh);
+    if (c.wall) section("wall", wall_keys().keys, *c.wall);
+  }
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "capsflow/core/stepping/time_plan.hpp"
 
+#include <algorithm>
+
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -64,6 +66,36 @@ TimePlan resolve_time_plan(const Scene& scene, const SurfaceMesh& reference) {
   choose_scheme(scene, p);
   choose_tolerance(scene, static_cast<long>(reference.num_elements()), p);
   return p;
+}
+
+int stiffest_capsule(const Scene& scene, const SurfaceSet& capsules) {
+  if (capsules.size() == 1 || scene.capsules_alike()) return 0;  // alike: the same radius for all
+  int stiffest = 0;
+  double rho = -1;
+  for (int k = 0; k < capsules.size(); ++k) {
+    const double r = analytic_spectral_radius(scene.capsule_scene(k),
+                                              min_edge_length(capsules.part_mesh(capsules.mesh().vertices, k)));
+    if (r > rho) {
+      rho = r;
+      stiffest = k;
+    }
+  }
+  return stiffest;
+}
+
+TimePlan resolve_time_plan(const Scene& scene, const SurfaceSet& capsules) {
+  const Points& x = capsules.mesh().vertices;
+  const int stiffest = stiffest_capsule(scene, capsules);
+  TimePlan plan = resolve_time_plan(scene.capsule_scene(stiffest), capsules.part_mesh(x, stiffest));
+  if (scene.capsules_alike() || !plan.tolerance_auto) return plan;
+  for (int k = 0; k < capsules.size(); ++k) {
+    Scene own = scene.capsule_scene(k);
+    own.time.scheme = plan.scheme;  // its tolerance under the scheme the run takes
+    const TimePlan p = resolve_time_plan(own, capsules.part_mesh(x, k));
+    plan.tolerance = std::min(plan.tolerance, p.tolerance);
+    plan.crease_tolerance = std::min(plan.crease_tolerance, p.crease_tolerance);
+  }
+  return plan;
 }
 
 double TimePlan::tolerance_in_force(const CreaseHistory& h, double t) const {

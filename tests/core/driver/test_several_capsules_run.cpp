@@ -75,6 +75,25 @@ TEST(SeveralCapsulesRun, TwoCapsulesFortyRadiiApartMoveAsOneAlone) {
   fs::remove_all(two);
 }
 
+TEST(SeveralCapsulesRun, EachCapsuleMovesWithTheFlowAtItsCentre) {
+  const fs::path dir = fresh_dir("velocity");
+  // At (0, ∓20, 0) in v∞ = x2 e1 each capsule is carried at (∓20, 0, 0); a sphere in a linear flow
+  // translates with the flow at its centre (Faxén), the other capsule adds (a/r)² ≈ 6e-4 of Ca_s·a.
+  ASSERT_EQ(Simulation(options({"layout.count=2", "layout.dy=40"}, dir)).run(), 0);
+  const nlohmann::json s = summary_of(dir);
+  for (int k = 0; k < 2; ++k) {
+    const nlohmann::json& c = s.at("capsules")[k];
+    const double y = c.at("centroid")[1].get<double>();
+    EXPECT_NEAR(y, k == 0 ? -20 : 20, 1e-3) << "capsule " << k + 1 << " stays on its streamline";
+    EXPECT_NEAR(c.at("velocity")[0].get<double>(), y, 1e-3) << "capsule " << k + 1 << ": the flow at its centre";
+    EXPECT_NEAR(c.at("velocity")[1].get<double>(), 0, 1e-3);
+    EXPECT_NEAR(c.at("velocity")[2].get<double>(), 0, 1e-3);
+    // ... and where it went: x1 = y t after t = 0.4.
+    EXPECT_NEAR(c.at("centroid")[0].get<double>(), 0.4 * y, 1e-3);
+  }
+  fs::remove_all(dir);
+}
+
 TEST(SeveralCapsulesRun, APointSymmetricPairStaysPointSymmetric) {
   const fs::path dir = fresh_dir("symmetric");
   // x → −x maps simple shear onto itself and the icosphere onto itself (its vertices come in ±
@@ -84,8 +103,10 @@ TEST(SeveralCapsulesRun, APointSymmetricPairStaysPointSymmetric) {
   const nlohmann::json &c1 = s.at("capsules")[0], &c2 = s.at("capsules")[1];
   for (const char* d : {"D12", "D13", "D23", "area", "volume"})
     EXPECT_NEAR(c1[d].get<double>(), c2[d].get<double>(), 1e-11) << d << ": round-off of sums in another order";
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(c1["centroid"][i].get<double>(), -c2["centroid"][i].get<double>(), 1e-11) << "centroid " << i;
+    EXPECT_NEAR(c1["velocity"][i].get<double>(), -c2["velocity"][i].get<double>(), 1e-11) << "velocity " << i;
+  }
   // The pair moved with the shear: capsule 1 (below the plane x2 = 0) backwards.
   EXPECT_LT(c1["centroid"][0].get<double>(), 2 - 0.05) << "x1 decreases by about 0.25 · 0.4";
   // 2 radii between the surfaces, the level-1 sphere's longest edges about 0.7: within the 3 sizes
@@ -114,6 +135,23 @@ TEST(SeveralCapsulesRun, ARestartContinuesBitForBit) {
       << "the checkpoint holds every capsule's wall, the time plan and the scheme's state";
   EXPECT_EQ(summary_of(second).at("capsules").size(), 2u);
   for (const fs::path& p : {dir, first, second}) fs::remove_all(p);
+}
+
+TEST(SeveralCapsulesRun, TheTimePlanIsTheStiffestCapsules) {
+  const fs::path pair = fresh_dir("unlike"), alone = fresh_dir("stiff-alone");
+  // Capsule 2 is four times finer and ten times stiffer in area dilation: its analytic spectral
+  // radius sets the stable step of both, so the pair's plan is that of capsule 2 alone.
+  const std::string own = "[[capsule]]\ncenter = [-3, 0, 0]\n[[capsule]]\ncenter = [3, 0, 0]\nmesh.level = 2\nwall.skalak_c = 10\n";
+  ASSERT_EQ(Simulation(options({"time.t_end=0.02"}, pair, own)).run(), 0);
+  ASSERT_EQ(Simulation(options({"time.t_end=0.02", "mesh.level=2", "wall.skalak_c=10"}, alone)).run(), 0);
+  const nlohmann::json p = summary_of(pair), a = summary_of(alone);
+  // The same formula on the same capsule; moved to x1 = 3 its edge lengths differ in the last bits.
+  EXPECT_NEAR(p.at("time_plan").at("stiffness").get<double>(), a.at("time_plan").at("stiffness").get<double>(),
+              1e-12 * a.at("time_plan").at("stiffness").get<double>());
+  EXPECT_EQ(p.at("time_plan").at("scheme"), a.at("time_plan").at("scheme"));
+  EXPECT_EQ(p.at("elements").get<long>(), 80 + 320) << "a level-1 and a level-2 icosphere";
+  fs::remove_all(pair);
+  fs::remove_all(alone);
 }
 
 TEST(SeveralCapsulesRun, OverlappingCapsulesAreRefusedBeforeTheFolderExists) {

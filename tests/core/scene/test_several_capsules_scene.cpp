@@ -54,7 +54,8 @@ TEST(SeveralCapsulesScene, BadCapsuleArraysAreRefusedNamingTheCapsuleAndTheKey) 
   EXPECT_EQ(refusal("capsule = 3\n"),
             "s.toml:1: capsule: expected an array of tables [[capsule]] (each with its center = [x, y, z])");
   EXPECT_EQ(refusal("[[capsule]]\ncenter = [0, 0, 0]\n[[capsule]]\ncentre = [0, 0, 4]\n"),
-            "s.toml:3: capsule 2: unknown key 'centre' (known in [[capsule]]: center)");
+            "s.toml:3: capsule 2: unknown key 'centre' (known in [[capsule]]: center, and [capsule.mesh], [capsule.wall] "
+            "tables)");
   EXPECT_EQ(refusal("[[capsule]]\ncenter = [0, 0]\n"), "s.toml:1: capsule 1: center: expected an array of 3 finite numbers [x, y, z]");
   EXPECT_EQ(refusal("[[capsule]]\ncenter = [0, nan, 0]\n"),
             "s.toml:1: capsule 1: center: expected an array of 3 finite numbers [x, y, z]");
@@ -64,6 +65,46 @@ TEST(SeveralCapsulesScene, BadCapsuleArraysAreRefusedNamingTheCapsuleAndTheKey) 
   EXPECT_EQ(refusal(many), "s.toml:1: capsule: 1001 [[capsule]] tables: at most 1000 capsules");
   EXPECT_NE(refusal("", {"layout.count=100000"}).find("layout.count: 100000 is out of range: must be in [1, 1000]"),
             std::string::npos);
+}
+
+TEST(SeveralCapsulesScene, ACapsuleMayHaveMeshAndWallKeysOfItsOwn) {
+  const std::string toml = R"([wall]
+model = "membrane"
+thickness = 0.03
+[flow]
+ca_v = 0.003
+[[capsule]]
+center = [-3, 0, 0]
+[[capsule]]
+center = [3, 0, 0]
+mesh.level = 2
+[capsule.wall]
+model = "gsmb"
+thickness = 0.06
+)";
+  const Scene s = parse_scene(toml, "s.toml");
+  EXPECT_FALSE(s.capsules_alike());
+  EXPECT_EQ(s.capsule_scene(0).wall.model, WallModel::Membrane) << "capsule 1 keeps the scene's wall";
+  EXPECT_EQ(s.capsule_scene(0).mesh.level, s.mesh.level);
+  const Scene two = s.capsule_scene(1);
+  EXPECT_EQ(two.mesh.level, 2);
+  EXPECT_EQ(two.mesh.shape, s.mesh.shape) << "the keys it does not give are the scene's";
+  EXPECT_EQ(two.wall.model, WallModel::Gsmb);
+  EXPECT_EQ(two.wall.poisson, s.wall.poisson);
+  // Ca_s = Ca_v/thickness follows each capsule's thickness (the scene gives Ca_v): 0.003/0.06.
+  EXPECT_DOUBLE_EQ(two.flow.ca_s, 0.05);
+  EXPECT_DOUBLE_EQ(s.capsule_scene(0).flow.ca_s, 0.1);
+  // A checkpoint's canonical TOML keeps them.
+  const Scene back = parse_scene(to_toml(s), "checkpoint");
+  EXPECT_EQ(back.capsule_scene(1).mesh.level, 2);
+  EXPECT_EQ(back.capsule_scene(1).wall.thickness, 0.06);
+  EXPECT_FALSE(back.capsules[0].wall.has_value()) << "capsule 1 still has no keys of its own";
+  // Refusals name the capsule, the file's line and the key.
+  EXPECT_EQ(refusal("[[capsule]]\ncenter = [0, 0, 0]\n[capsule.wall]\nthickness = 1\n"),
+            "capsule 1: s.toml:4: wall.thickness: 1 is out of range: must be in (0, 0.5] (h/ℓ)");
+  EXPECT_EQ(refusal("[[capsule]]\ncenter = [0, 0, 0]\nmesh.levle = 1\n"),
+            "capsule 1: s.toml:3: mesh.levle: unknown key (known in [mesh]: aspect, axis, base, file, level, shape)");
+  EXPECT_EQ(refusal("[[capsule]]\ncenter = [0, 0, 0]\nwall = 3\n"), "s.toml:1: capsule 1: wall: expected a table of wall keys");
 }
 
 TEST(SeveralCapsulesScene, ContradictionsAreRefusedNamingTheKey) {

@@ -29,6 +29,9 @@ struct VolumeMoments {
 };
 VolumeMoments volume_moments(const SurfaceMesh& mesh);
 VolumeMoments volume_moments(const Points& x, const Triangles& triangles);  // the same, without a copy of x
+// The rate of change of volume_moments(x).centroid when the nodes move with velocities v: its exact
+// derivative along v (the velocity of the polyhedron's volume centroid).
+Vec3 centroid_rate(const Points& x, const Triangles& triangles, const Points& v);
 
 // Actual half-extents L_i of the surface along x_i: the paper's
 // Table 1 "L_i" = half of (max − min) of the vertex coordinates (exact for P1 geometry).

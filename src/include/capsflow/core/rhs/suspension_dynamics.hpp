@@ -37,7 +37,7 @@ struct ContactRepulsion {
 
 class SuspensionDynamics final : public CapsulesDynamics {
  public:
-  // One scene for every capsule (wall, flow and fluid keys); `capsules` holds their reference
+  // The scene's flow and fluid keys for all, each capsule's wall its own (Scene::capsule_scene); `capsules` holds their reference
   // surfaces, placed where they start. Throws std::invalid_argument at a viscosity ratio ≠ 1, or a
   // repulsion range outside [0, 3] or a negative strength.
   SuspensionDynamics(const Scene& scene, const SurfaceSet& capsules, int threads = 0, ContactRepulsion contact = {});

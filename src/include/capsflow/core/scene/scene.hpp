@@ -103,9 +103,12 @@ struct LayoutSpec {
   double dx, dy, dz;  // centre-to-centre step, in ℓ
 };
 
-// One capsule of a [[capsule]] array: the mesh moved to `center` (in ℓ).
+// One capsule of a [[capsule]] array: its mesh moved to `center` (in ℓ); its own [mesh] and [wall]
+// keys where it has any (the scene's sections, with these keys changed), else the scene's.
 struct CapsuleSpec {
   Vec3 center = Vec3::Zero();
+  std::optional<MeshSpec> mesh;
+  std::optional<WallSpec> wall;
 };
 
 // Where several capsules meet ([contact]; rhs/suspension_dynamics.hpp, health/surface_gap_watch.hpp).
@@ -133,6 +136,10 @@ struct Scene {
   // The capsules' centres: the [[capsule]] array, else [layout]'s row ({0, 0, 0} for one capsule:
   // the mesh where it is).
   std::vector<Vec3> capsule_centers() const;
+  // Capsule k's own scene: this one with its [mesh] and [wall] keys (Ca_s follows a changed
+  // thickness when it is derived from Ca_v).
+  Scene capsule_scene(int k) const;
+  bool capsules_alike() const;  // no capsule has keys of its own
 };
 
 // One key set on the command line: "section.key=value", and the option that gave it, which

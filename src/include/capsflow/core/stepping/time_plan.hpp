@@ -16,6 +16,7 @@
 #include <string>
 #include <nlohmann/json_fwd.hpp>
 
+#include "capsflow/core/geometry/surface_set.hpp"
 #include "capsflow/core/named_enum.hpp"
 #include "capsflow/core/stepping/time_scheme.hpp"
 #include "capsflow/core/types.hpp"
@@ -60,6 +61,13 @@ struct TimePlan {
 
 // The plan for a scene on its reference mesh.
 TimePlan resolve_time_plan(const Scene& scene, const SurfaceMesh& reference);
+
+// Several capsules (docs/several-capsules.md), each with its own scene (Scene::capsule_scene) and
+// reference (the parts of `capsules`): the plan of the stiffest capsule — the largest analytic
+// spectral radius, which sets the stable step of all — with, under time.tolerance = "auto", the
+// tightest tolerance that any capsule's own plan of that scheme takes. One capsule: its plan.
+TimePlan resolve_time_plan(const Scene& scene, const SurfaceSet& capsules);
+int stiffest_capsule(const Scene& scene, const SurfaceSet& capsules);  // 0-based
 
 // A restart keeps the checkpoint's plan unless it changes a key the plan is made of
 // (time.scheme, time.tolerance, time.dt): then the plan is resolved anew for the new scene.
