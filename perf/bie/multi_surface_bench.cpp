@@ -62,6 +62,8 @@ int main(int argc, char** argv) {
   app.add_option("--backend", backend, "auto, direct or fmm");
   app.add_option("--fmm-tolerance", fmm_tolerance, "the FMM's tolerance (1e-5: a run's fluid.tolerance = \"auto\" under error control)");
   app.add_option("--repeat", repeat, "evaluations timed (median)");
+  int leaf = 0;
+  app.add_option("--fmm-leaf-size", leaf, "points per FMM leaf (0: the calibrated one)");
   app.add_option("--threads", threads, "OpenMP threads (0: all)");
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
@@ -72,6 +74,7 @@ int main(int argc, char** argv) {
       h = std::max(h, (one.vertices.row(one.triangles(e, k)) - one.vertices.row(one.triangles(e, (k + 1) % 3))).norm());
   SingleLayerOptions opt;
   opt.fmm_tolerance = fmm_tolerance;
+  opt.fmm_leaf_size = leaf;
   opt.backend = backend == "direct" ? BackendRequest::Direct : backend == "fmm" ? BackendRequest::Fmm : BackendRequest::Auto;
   double single_seconds = 0;
   for (int K : counts) {
