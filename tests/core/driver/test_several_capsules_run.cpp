@@ -13,28 +13,11 @@
 
 #include "capsflow/core/driver/simulation.hpp"
 #include "capsflow/core/scene/scene.hpp"
+#include "tiny_pair_scene.hpp"
 
 namespace capsflow {
 namespace {
 namespace fs = std::filesystem;
-
-// A Skalak membrane sphere of 80 elements in simple shear v = x2 e1: seconds per run.
-const char* kPair = R"([mesh]
-base = "icosahedron"
-level = 1
-shape = "sphere"
-[wall]
-model = "membrane"
-law = "skalak"
-[flow]
-type = "simple_shear"
-ca_s = 0.05
-[time]
-t_end = 0.4
-[output]
-every = 0.2
-checkpoint_every = 0.2
-)";
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("capsflow-several-" + name + "-" + std::to_string(::getpid()));
@@ -49,7 +32,7 @@ nlohmann::json summary_of(const fs::path& dir) {
 
 RunOptions options(const std::vector<std::string>& overrides, const fs::path& dir, const std::string& extra = "") {
   RunOptions o;
-  o.scene = parse_scene(std::string(kPair) + extra, "pair.toml", overrides);
+  o.scene = parse_scene(std::string(test::kTinyShearScene) + extra, "pair.toml", overrides);
   o.output_dir = dir.string();
   o.threads = 1;
   return o;

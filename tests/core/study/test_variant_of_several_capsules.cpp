@@ -11,6 +11,7 @@
 #include "capsflow/core/driver/simulation.hpp"
 #include "capsflow/core/scene/scene.hpp"
 #include "capsflow/core/study/variant_folder.hpp"
+#include "../driver/tiny_pair_scene.hpp"
 
 namespace capsflow {
 namespace {
@@ -19,27 +20,9 @@ namespace fs = std::filesystem;
 TEST(VariantOfSeveralCapsules, TheObservablesAreCapsuleOnes) {
   const fs::path dir = fs::temp_directory_path() / ("capsflow-variant-pair-" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  // Capsule 1 (below) and 2 (above the plane x2 = 0): a Skalak sphere of 80 elements each in shear.
+  // Capsule 1 (below) and 2 (above the plane x2 = 0).
   RunOptions o;
-  o.scene = parse_scene(R"([mesh]
-level = 1
-shape = "sphere"
-[wall]
-model = "membrane"
-law = "skalak"
-[flow]
-type = "simple_shear"
-ca_s = 0.05
-[time]
-t_end = 0.4
-[output]
-every = 0.2
-[layout]
-count = 2
-dx = -3
-dy = 1
-)",
-                        "pair.toml");
+  o.scene = parse_scene(test::kTinyShearScene, "pair.toml", {"layout.count=2", "layout.dx=-3", "layout.dy=1"});
   o.output_dir = dir.string();
   o.threads = 1;
   ASSERT_EQ(Simulation(o).run(), 0);
