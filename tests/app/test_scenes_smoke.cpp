@@ -43,9 +43,15 @@ TEST_P(SceneSmoke, RunsShortAndCoarseWithACompleteSummary) {
   const nlohmann::json s = nlohmann::json::parse(in);
   EXPECT_EQ(s.at("stop_reason"), "t_end");
   EXPECT_NEAR(s.at("t").get<double>(), 0.05, 1e-12);  // steps land exactly on t_end
-  for (const char* key : {"D12", "D13", "D23", "area", "volume", "volume_drift", "wall_seconds"})
-    EXPECT_TRUE(std::isfinite(s.at(key).get<double>())) << key;
-  for (const char* key : {"L", "Le"}) EXPECT_EQ(s.at(key).size(), 3u) << key;
+  // Each capsule's shape (one capsule: also at the top level).
+  ASSERT_GE(s.at("capsules").size(), 1u);
+  for (const nlohmann::json& c : s.at("capsules")) {
+    for (const char* key : {"D12", "D13", "D23", "area", "volume", "volume_drift"})
+      EXPECT_TRUE(std::isfinite(c.at(key).get<double>())) << key;
+    for (const char* key : {"L", "Le", "centroid"}) EXPECT_EQ(c.at(key).size(), 3u) << key;
+    EXPECT_LT(std::abs(c.at("volume_drift").get<double>()), 1e-6) << "as the run's below";
+  }
+  EXPECT_TRUE(std::isfinite(s.at("wall_seconds").get<double>()));
   for (const char* key : {"steps", "steady", "elements", "nodes", "backend", "scene", "timing"})
     EXPECT_TRUE(s.contains(key)) << key;
   // The volume correction leaves Heun's O(Δt³) per-step volume error: measured 1.5e-8 after these
