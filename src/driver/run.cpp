@@ -199,6 +199,11 @@ std::optional<StopReason> Simulation::Impl::observe_health() {
   if (capsules() == 1) {
     for (const HealthEvent& e : watch[0].health->observe(st.t, st.x, effort)) report(e, "");
   } else {
+    // The counters sum every capsule's inner solves: each capsule is given their mean.
+    const double share = 1.0 / capsules();
+    effort.newton_per_evaluation *= share;
+    effort.rotation_cg_per_evaluation *= share;
+    effort.mass_cg_per_evaluation *= share;
     for (int k = 0; k < capsules(); ++k) {
       const SurfacePart& p = surfaces->part(k);
       for (const HealthEvent& e : watch[static_cast<std::size_t>(k)].health->observe(st.t, st.x.middleRows(p.node_begin, p.nodes), effort))

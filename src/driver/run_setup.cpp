@@ -14,9 +14,9 @@
 #include "capsflow/core/io/output_folder.hpp"
 #include "capsflow/core/io/run_identity.hpp"
 #include "capsflow/core/io/version.hpp"
-#include "capsflow/core/rhs/capsule_dynamics.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
+#include "capsflow/core/rhs/capsule_dynamics.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
 #include "simulation_impl.hpp"
 
