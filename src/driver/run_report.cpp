@@ -138,7 +138,7 @@ nlohmann::json Simulation::Impl::summary() const {
                                  {"rewind", st.rewind ? st.rewind->to_json() : nlohmann::json()},
                                  {"creases_seen_at", st.creases_seen_at ? nlohmann::json(*st.creases_seen_at) : nlohmann::json()}};
   // Each capsule's shape at the last output (the flow-plane observables: docs/conventions.md §5.6;
-  // θ in degrees); one capsule's also at the top level, as before there were several.
+  // θ in degrees); one capsule's also at the top level, where scripts of one capsule read them.
   summary["capsules"] = nlohmann::json::array();
   for (int k = 0; k < capsules(); ++k) summary["capsules"].push_back(capsule_summary(k));
   if (capsules() == 1) {
