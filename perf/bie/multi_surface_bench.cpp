@@ -18,6 +18,7 @@
 #include "capsflow/core/bie/multi_surface_single_layer.hpp"
 #include "capsflow/core/io/version.hpp"
 #include "capsflow/core/mesh/generation.hpp"
+#include "capsflow/core/mesh/stats.hpp"
 
 using namespace capsflow;
 using clk = std::chrono::steady_clock;
@@ -68,10 +69,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   const SurfaceMesh one = make_sphere_mesh(BaseSolid::Icosahedron, level);
-  double h = 0;
-  for (Eigen::Index e = 0; e < one.num_elements(); ++e)
-    for (int k = 0; k < 3; ++k)
-      h = std::max(h, (one.vertices.row(one.triangles(e, k)) - one.vertices.row(one.triangles(e, (k + 1) % 3))).norm());
+  const double h = mesh_stats(one).edge_max;  // the element size the gap is counted in
   SingleLayerOptions opt;
   opt.fmm_tolerance = fmm_tolerance;
   opt.fmm_leaf_size = leaf;

@@ -37,6 +37,18 @@ std::vector<io::PlaneProfile> profiles_of(const SurfaceMesh& cur) {
   }
   return planes;
 }
+// One capsule's shape, lab centroid and wall energies as timeseries.csv columns, names prefixed
+// (one capsule: no prefix; several: "c<k>.").
+void append_shape_columns(io::CsvRow& row, const std::string& p, const ShapeDiagnostics& s, double volume0, const Vec3& c,
+                          const shell::WallEnergies& en) {
+  row.insert(row.end(), {{p + "D12", s.D.D12}, {p + "D13", s.D.D13}, {p + "D23", s.D.D23},
+                         {p + "Le1", s.Le[0]}, {p + "Le2", s.Le[1]}, {p + "Le3", s.Le[2]},
+                         {p + "L1", s.L[0]}, {p + "L2", s.L[1]}, {p + "L3", s.L[2]},
+                         {p + "area", s.area}, {p + "volume", s.volume}, {p + "volume_drift", s.volume / volume0 - 1},
+                         {p + "centroid1", c[0]}, {p + "centroid2", c[1]}, {p + "centroid3", c[2]},
+                         {p + "E_membrane", en.membrane}, {p + "E_bending", en.bending}, {p + "E_shear", en.shear}});
+}
+
 }  // namespace
 
 // Loads, energies and velocities of the state itself, not of whatever stage the scheme evaluated
@@ -87,7 +99,8 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
     dyn->solve_wall(x, {EvaluationHint::Role::Output, 0});  // loads and energies need no fluid
   }
   std::vector<shell::WallEnergies> en;
-  for (int k = 0; k < capsules(); ++k) en.push_back(dyn->wall_of(k).energies(capsules() == 1 ? x : capsule_mesh(x, k).vertices));
+  for (int k = 0; k < capsules(); ++k)
+    en.push_back(dyn->wall_of(k).energies(x.middleRows(surfaces->part(k).node_begin, surfaces->part(k).nodes)));
   io::NamedFields fields;
   if (scene.wants_field(OutputField::Velocity)) fields.emplace_back("velocity", v_out);
   if (scene.wants_field(OutputField::Load)) fields.emplace_back("load", dyn->load());
@@ -95,7 +108,7 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
     Eigen::VectorXd Em(x.rows()), Eb(x.rows()), Esh(x.rows()), em, eb, esh;
     for (int k = 0; k < capsules(); ++k) {  // each wall's maps on its capsule's rows
       const SurfacePart& p = surfaces->part(k);
-      dyn->wall_of(k).nodal_energy_maps(capsules() == 1 ? x : capsule_mesh(x, k).vertices, em, eb, esh);
+      dyn->wall_of(k).nodal_energy_maps(x.middleRows(p.node_begin, p.nodes), em, eb, esh);
       Em.segment(p.node_begin, p.nodes) = em;
       Eb.segment(p.node_begin, p.nodes) = eb;
       Esh.segment(p.node_begin, p.nodes) = esh;
@@ -115,13 +128,8 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
   const Vec3 centroid = lab_centroid_at(t, x);
   io::CsvRow row = {{"t", t}, {"step", static_cast<double>(st.step)}, {"dt", st.dt}};
   if (capsules() == 1) {
-    const ShapeDiagnostics& s = watch[0].last_shape;
-    row.insert(row.end(), {{"D12", s.D.D12}, {"D13", s.D.D13}, {"D23", s.D.D23},
-                           {"Le1", s.Le[0]}, {"Le2", s.Le[1]}, {"Le3", s.Le[2]}, {"L1", s.L[0]}, {"L2", s.L[1]}, {"L3", s.L[2]},
-                           {"area", s.area}, {"volume", s.volume}, {"volume_drift", s.volume / st.volume0 - 1},
-                           {"centroid1", centroid[0]}, {"centroid2", centroid[1]}, {"centroid3", centroid[2]},
-                           {"E_membrane", en[0].membrane}, {"E_bending", en[0].bending}, {"E_shear", en[0].shear},
-                           {"steady_measure", steady->measure()}, {"wall_seconds", wall_seconds()}});
+    append_shape_columns(row, "", watch[0].last_shape, st.volume0, centroid, en[0]);
+    row.insert(row.end(), {{"steady_measure", steady->measure()}, {"wall_seconds", wall_seconds()}});
     for (const auto& [name, value] : watch[0].health->columns()) row.emplace_back(name, value);
     far_check->append_columns(row);     // fluid.verify_every > 0 only
     dl_far_check->append_columns(row);  // ... and λ ≠ 1
@@ -135,24 +143,16 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
     const bool moving = at_state || scene.wants_field(OutputField::Velocity);
     for (int k = 0; k < capsules(); ++k) {
       CapsuleWatch& w = watch[static_cast<std::size_t>(k)];
-      const ShapeDiagnostics& s = w.last_shape;
-      // The lab frame moves every capsule alike: its centroid is the common one plus its offset from
-      // it, and its velocity the frame's L c̄_lab (geometry/lab_centroid.hpp) plus its own in the frame.
+      // Its velocity in the lab: the frame's L c̄_lab (geometry/lab_centroid.hpp) plus its own in the frame.
       const SurfacePart& part = surfaces->part(k);
-      const Vec3 c = centroid + (volume_moments(capsule_mesh(x, k)).centroid - common);
       w.last_velocity = moving ? Vec3(scene.flow.gradient * centroid +
                                       centroid_rate(x.middleRows(part.node_begin, part.nodes), surfaces->local_triangles(k),
                                                     v_out.middleRows(part.node_begin, part.nodes)))
                                : Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
       const Vec3& u = w.last_velocity;
       const std::string p = fmt::format("c{}.", k + 1);
-      row.insert(row.end(), {{p + "D12", s.D.D12}, {p + "D13", s.D.D13}, {p + "D23", s.D.D23},
-                             {p + "Le1", s.Le[0]}, {p + "Le2", s.Le[1]}, {p + "Le3", s.Le[2]},
-                             {p + "L1", s.L[0]}, {p + "L2", s.L[1]}, {p + "L3", s.L[2]},
-                             {p + "area", s.area}, {p + "volume", s.volume}, {p + "volume_drift", s.volume / w.volume0 - 1},
-                             {p + "centroid1", c[0]}, {p + "centroid2", c[1]}, {p + "centroid3", c[2]},
-                             {p + "velocity1", u[0]}, {p + "velocity2", u[1]}, {p + "velocity3", u[2]},
-                             {p + "E_membrane", en[k].membrane}, {p + "E_bending", en[k].bending}, {p + "E_shear", en[k].shear},
+      append_shape_columns(row, p, w.last_shape, w.volume0, capsule_centroid_lab(centroid, common, x, k), en[k]);
+      row.insert(row.end(), {{p + "velocity1", u[0]}, {p + "velocity2", u[1]}, {p + "velocity3", u[2]},
                              {p + "D_flow", w.last_plane_shape.D}, {p + "theta", w.last_plane_shape.theta * 180 / M_PI},
                              {p + "tank_treading", w.last_tank_treading}});
       for (const auto& [name, value] : w.health->columns()) row.emplace_back(p + name, value);

@@ -103,9 +103,7 @@ nlohmann::json Simulation::Impl::timing_table() const {
 nlohmann::json Simulation::Impl::capsule_summary(int k) const {
   const CapsuleWatch& w = watch.at(static_cast<std::size_t>(k));
   const ShapeDiagnostics& s = w.last_shape;
-  // The lab frame moves every capsule alike (run_output.cpp).
-  const Vec3 c = capsules() == 1 ? st.centroid_lab
-                                 : Vec3(st.centroid_lab + volume_moments(capsule_mesh(st.x, k)).centroid - st.centroid_frame);
+  const Vec3 c = capsules() == 1 ? st.centroid_lab : capsule_centroid_lab(st.centroid_lab, st.centroid_frame, st.x, k);
   const Vec3& u = w.last_velocity;
   const nlohmann::json velocity = u.allFinite() ? nlohmann::json{u[0], u[1], u[2]} : nlohmann::json();
   nlohmann::json entry = {{"centroid", {c[0], c[1], c[2]}},

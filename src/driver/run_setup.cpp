@@ -91,6 +91,10 @@ SurfaceMesh Simulation::Impl::capsule_mesh(const Points& x, int k) const {
   return capsules() == 1 ? SurfaceMesh{x, ref.triangles} : surfaces->part_mesh(x, k);
 }
 
+Vec3 Simulation::Impl::capsule_centroid_lab(const Vec3& common_lab, const Vec3& common_frame, const Points& x, int k) const {
+  return common_lab + (volume_moments(capsule_mesh(x, k)).centroid - common_frame);
+}
+
 Eigen::VectorXd Simulation::Impl::wall_state() const {
   if (capsules() == 1) return dyn->wall_of(0).state();
   std::vector<Eigen::VectorXd> each;

@@ -158,6 +158,9 @@ struct Simulation::Impl {
   std::unique_ptr<SurfaceSet> surfaces;    // the capsules in ref: each one's rows (one: all of them)
   int capsules() const { return surfaces->size(); }
   SurfaceMesh capsule_mesh(const Points& x, int k) const;  // capsule k at the union's positions x
+  // Capsule k's volume centroid in the lab frame, from the common centroid's in the lab and in the
+  // frame of x: the frame moves every capsule alike.
+  Vec3 capsule_centroid_lab(const Vec3& common_lab, const Vec3& common_frame, const Points& x, int k) const;
   std::unique_ptr<CapsulesDynamics> dyn;   // the right-hand side: CapsuleDynamics, or SuspensionDynamics
   SuspensionDynamics* suspension = nullptr;  // dyn, when there are several capsules
   TimePlan plan;                           // how the run is stepped (stepping/time_plan.hpp)

@@ -18,7 +18,8 @@ SuspensionDynamics::SuspensionDynamics(const Scene& scene, const SurfaceSet& cap
       L_(scene.flow.gradient),
       volume_correction_(scene.fluid.volume_correction),
       bie_(capsules, boundary_integral_options(scene, threads)),
-      contact_(contact) {
+      contact_(contact),
+      repulsing_(contact.range > 0 && capsules.size() > 1) {
   if (!(contact.range >= 0 && contact.range <= kCrossNearRatio) || !(contact.strength >= 0))
     throw std::invalid_argument("several capsules: the repulsion's range must be in [0, 3] element sizes and its "
                                 "strength >= 0");
@@ -54,23 +55,22 @@ void SuspensionDynamics::repulsion(const Points& x) {
   }
 }
 
-void SuspensionDynamics::solve_walls(const Points& x, const EvaluationHint& hint, bool contact, Stopwatch& clock) {
+void SuspensionDynamics::solve_walls(const Points& x, const EvaluationHint& hint, Stopwatch& clock) {
   for (int k = 0; k < set_.size(); ++k) {
     const SurfacePart& p = set_.part(k);
     Points& xk = x_part_[static_cast<std::size_t>(k)];
     xk = x.middleRows(p.node_begin, p.nodes);
     WallAndLoad& w = walls_[static_cast<std::size_t>(k)];
-    if (contact) contact_part_ = contact_force_.middleRows(p.node_begin, p.nodes);
-    w.solve(xk, hint, counters_, times_, clock, contact ? &contact_part_ : nullptr);
+    if (repulsing_) contact_part_ = contact_force_.middleRows(p.node_begin, p.nodes);
+    w.solve(xk, hint, counters_, times_, clock, repulsing_ ? &contact_part_ : nullptr);
     q_.middleRows(p.node_begin, p.nodes) = w.load();
   }
 }
 
 void SuspensionDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
   Stopwatch clock;
-  const bool contact = contact_.range > 0 && set_.size() > 1;
-  if (contact) repulsion(x);
-  solve_walls(x, hint, contact, clock);
+  if (repulsing_) repulsion(x);
+  solve_walls(x, hint, clock);
   ++counters_.wall_solves;
 }
 
@@ -105,10 +105,9 @@ void SuspensionDynamics::evaluate(const Points& x, Points& v, const EvaluationHi
   if (x.rows() != set_.mesh().num_nodes())
     throw std::invalid_argument("several capsules: positions must have one row per node of every capsule");
   Stopwatch clock;
-  const bool contact = contact_.range > 0 && set_.size() > 1;
-  if (contact) repulsion(x);
-  solve_walls(x, hint, contact, clock);  // the repulsion's time goes with the walls'
-  bie_.apply(x, q_, u_, contact);
+  if (repulsing_) repulsion(x);
+  solve_walls(x, hint, clock);  // the repulsion's time goes with the walls'
+  bie_.apply(x, q_, u_, repulsing_);
   if (bie_.cross().inside_nodes() > 0) {  // surfaces that crossed: no velocity of a state that cannot be
     const SurfaceGap& g = bie_.cross().deepest_inside();
     throw SolverFailure(fmt::format("capsules {} and {} overlap: {} node(s) of one inside the other, node {} of capsule {} "

@@ -49,8 +49,6 @@ std::string alternative_of(const std::string& dotted) {
   return alt;
 }
 
-constexpr int kMaxCapsuleTables = 1000;  // as layout.count (scene_keys.cpp)
-
 std::string line_of(const std::string& name, const toml::node& n) {
   return n.source().begin.line > 0 ? name + ":" + std::to_string(n.source().begin.line) + ": " : name + ": ";
 }
@@ -77,8 +75,8 @@ std::vector<RawCapsule> take_capsule_array(toml::table& root, toml::table& holde
   if (arr && arr->empty()) throw SceneError(at + "capsule: an empty array: give one [[capsule]] table per capsule, or none");
   if (!arr || !arr->is_array_of_tables())
     throw SceneError(at + "capsule: expected an array of tables [[capsule]] (each with its center = [x, y, z])");
-  if (arr->size() > static_cast<std::size_t>(kMaxCapsuleTables))
-    throw SceneError(fmt::format("{}capsule: {} [[capsule]] tables: at most {} capsules", at, arr->size(), kMaxCapsuleTables));
+  if (arr->size() > static_cast<std::size_t>(kMaxCapsules))
+    throw SceneError(fmt::format("{}capsule: {} [[capsule]] tables: at most {} capsules", at, arr->size(), kMaxCapsules));
   int k = 0;
   for (const toml::node& t : *arr) {
     ++k;

@@ -326,9 +326,6 @@ const Section<OutputSpec>& output_keys() {
   return s;
 }
 
-// At most 1000 capsules: 1000 meshes of 1280 elements already need about 10 GB (docs/several-capsules.md).
-constexpr int kMaxCapsules = 1000;
-
 const Section<LayoutSpec>& layout_keys() {
   const std::string step = "centre-to-centre step from one capsule of the row to the next, in ℓ; ";
   static const Section<LayoutSpec> s{

@@ -13,6 +13,9 @@ inline constexpr double kMaxSteps = 1e9;
 // run.h5 group with the positions (642 nodes × 3 × 8 bytes = 15 kB at 1280 elements) and a CSV row,
 // so 1e7 of them are already 150 GB.
 inline constexpr double kMaxOutputs = 1e7;
+// The most capsules ([layout] count, [[capsule]] tables): `capsflow info --set layout.count=100
+// --set layout.dx=3` estimates 854 MB for 100 capsules of 1280 elements, so 1000 already need ~8.5 GB.
+inline constexpr int kMaxCapsules = 1000;
 
 // Values that follow from others: Ca_s or Ca_v (from the one given and the thickness), the gradient
 // of a named flow type, the scheme of time.scheme = "auto", a sphere's aspect ratio.

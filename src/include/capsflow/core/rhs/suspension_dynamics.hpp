@@ -68,7 +68,7 @@ class SuspensionDynamics final : public CapsulesDynamics {
   PhaseTimes times() const override;
 
  private:
-  void solve_walls(const Points& x, const EvaluationHint& hint, bool contact, Stopwatch& clock);  // q_ at x
+  void solve_walls(const Points& x, const EvaluationHint& hint, Stopwatch& clock);  // q_ at x
   void repulsion(const Points& x);  // contact_force_ from the cross search on x
 
   SurfaceSet set_;
@@ -77,6 +77,7 @@ class SuspensionDynamics final : public CapsulesDynamics {
   std::vector<WallAndLoad> walls_;
   MultiSurfaceSingleLayer bie_;
   ContactRepulsion contact_;
+  bool repulsing_;  // a repulsion range and another capsule to repel
   std::vector<Points> x_part_;                  // each capsule's rows of x, for its wall
   Points contact_force_, contact_part_;
   Points q_, u_, area_normal_, part_a_, part_v_;  // scratch, reused across calls
