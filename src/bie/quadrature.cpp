@@ -214,8 +214,11 @@ std::array<Mat3, 3> refined_element_integral(const Vec3& p, const Vec3& x0, cons
 
 namespace {
 // The part of T with parent barycentrics `bary` (rows; area param_area in (ξ, η)), split until it
-// lies farther than kAdaptiveSplitRatio of its diameters from p; distances from its corners.
-Vec3 adaptive_part(const Vec3& p, const QuadraticTriangle& T, const Vec3 (&q)[3], const Eigen::Matrix3d& bary,
+// lies farther than kAdaptiveSplitRatio of its diameters from p; distances from its corners. At
+// each of Dunavant's points `term(λ, y, w)` gives the kernel's contribution, w the point's weight
+// in (ξ, η) (without the area element: each kernel takes J or the area normal itself).
+template <class Term>
+Vec3 adaptive_part(const Vec3& p, const QuadraticTriangle& T, const Term& term, const Eigen::Matrix3d& bary,
                    double param_area, int depth) {
   Vec3 y[3];
   for (int v = 0; v < 3; ++v) y[v] = T.position(bary(v, 1), bary(v, 2));
@@ -226,21 +229,34 @@ Vec3 adaptive_part(const Vec3& p, const QuadraticTriangle& T, const Vec3 (&q)[3]
     if (dist <= 0) return sum;
     for (const auto& r : kDunavant7) {
       const Eigen::RowVector3d lam = r[0] * bary.row(0) + r[1] * bary.row(1) + r[2] * bary.row(2);
-      const Vec3 qq = lam[0] * q[0] + lam[1] * q[1] + lam[2] * q[2];
-      sum += (r[3] * param_area * T.jacobian(lam[1], lam[2])) * stokeslet_apply(p - T.position(lam[1], lam[2]), qq);
+      sum += term(lam, T.position(lam[1], lam[2]), r[3] * param_area);
     }
     return sum;
   }
   const std::array<Eigen::Matrix3d, 4> c = split_in_four(bary);
   Vec3 sum = Vec3::Zero();
-  for (const auto& sub : c) sum += adaptive_part(p, T, q, sub, param_area / 4, depth + 1);
+  for (const auto& sub : c) sum += adaptive_part(p, T, term, sub, param_area / 4, depth + 1);
   return sum;
 }
 }  // namespace
 
 Vec3 adaptive_element_apply(const Vec3& p, const QuadraticTriangle& T, const Vec3& q0, const Vec3& q1, const Vec3& q2) {
-  const Vec3 q[3] = {q0, q1, q2};
-  return adaptive_part(p, T, q, Eigen::Matrix3d::Identity(), 0.5, 0);
+  auto term = [&](const Eigen::RowVector3d& lam, const Vec3& y, double w) -> Vec3 {
+    const Vec3 q = lam[0] * q0 + lam[1] * q1 + lam[2] * q2;
+    return (w * T.jacobian(lam[1], lam[2])) * stokeslet_apply(p - y, q);
+  };
+  return adaptive_part(p, T, term, Eigen::Matrix3d::Identity(), 0.5, 0);
+}
+
+Vec3 adaptive_element_double_layer(const Vec3& p, const QuadraticTriangle& T, const Vec3& u0, const Vec3& u1,
+                                   const Vec3& u2) {
+  auto term = [&](const Eigen::RowVector3d& lam, const Vec3& y, double w) -> Vec3 {
+    const Vec3 u = lam[0] * u0 + lam[1] * u1 + lam[2] * u2;
+    const Vec3 r = p - y, N = T.area_normal(lam[1], lam[2]);  // N = n J
+    const double r2 = r.squaredNorm();
+    return (w * -6 * r.dot(u) * r.dot(N) / (r2 * r2 * std::sqrt(r2))) * r;
+  };
+  return adaptive_part(p, T, term, Eigen::Matrix3d::Identity(), 0.5, 0);
 }
 
 }  // namespace capsflow

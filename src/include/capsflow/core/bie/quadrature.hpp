@@ -70,6 +70,11 @@ std::array<Mat3, 3> refined_element_integral(const Vec3& p, const Vec3& x0, cons
 inline constexpr double kAdaptiveSplitRatio = 4.0;
 inline constexpr int kAdaptiveMaxDepth = 14;
 Vec3 adaptive_element_apply(const Vec3& p, const QuadraticTriangle& T, const Vec3& q0, const Vec3& q1, const Vec3& q2);
+// The double layer's counterpart: ∫_e T(p − y) : u(y) n(y) dS_y (T_ijk = −6 r_i r_j r_k/|r|⁵,
+// unscaled, docs/boundary-integral.md §4.7.1) for a P1 velocity (u_k at x0, x1, x2), by the same
+// subdivision: a fixed wall's prescribed velocity seen from a point of the flow.
+Vec3 adaptive_element_double_layer(const Vec3& p, const QuadraticTriangle& T, const Vec3& u0, const Vec3& u1,
+                                   const Vec3& u2);
 
 // Hot-path forms, applied to a P1 load (q_k at the element's vertices, in the order x0, x1, x2 of
 // T). Singular element: returns the closed-form flat part Σ_k (∫ G φ_k dS) q_k and pushes the

@@ -1,0 +1,98 @@
+#include "capsflow/core/bie/fixed_wall.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "capsflow/core/bie/quadrature.hpp"
+#include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/fmm/stokeslet.hpp"
+
+namespace capsflow {
+namespace {
+
+Eigen::Map<Eigen::VectorXd> flat(Points& p) { return {p.data(), p.size()}; }
+
+}  // namespace
+
+FixedWall::FixedWall(const SurfaceMesh& wall, const Points& velocity, const FixedWallOptions& opt)
+    : mesh_(wall), velocity_(velocity), opt_(opt) {
+  const Eigen::Index n = wall.num_nodes();
+  if (velocity.rows() != n) throw std::invalid_argument("fixed wall: one velocity per node is needed");
+  if (opt.layer.geometry != SurfaceGeometry::Flat)
+    throw std::invalid_argument("fixed wall: only flat facets (a wall's edges and corners have no vertex normal to lift by)");
+  S_ = std::make_unique<SingleLayer>(wall.triangles, n, opt.layer);
+  area_ = nodal_areas(wall);
+  normal_ = nodal_normals(wall);
+  total_area_ = area_.sum();
+  weight_.resize(3 * n);
+  for (Eigen::Index i = 0; i < n; ++i) weight_.segment<3>(3 * i).setConstant(area_[i]);
+
+  DoubleLayerOptions dopt;
+  static_cast<LayerOptions&>(dopt) = opt.layer;
+  dopt.reuse_identity_term = false;  // one set-up: nothing to reuse
+  DoubleLayer D(wall.triangles, n, dopt);
+  Points Du;
+  D.set_surface(wall.vertices, &velocity_, &Du);
+  rhs0_ = 0.5 * velocity_ - Du;
+  traction_ = Points::Zero(n, 3);
+}
+
+FixedWall::~FixedWall() = default;
+
+FixedWallSolve FixedWall::solve(const Points* induced) {
+  const auto start = std::chrono::steady_clock::now();
+  Points b = rhs0_;
+  if (induced) b += *induced;
+  const Eigen::Index n = mesh_.num_nodes();
+  Points f(n, 3), Sf(n, 3);
+  auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y, Eigen::VectorXd*, double) {
+    flat(f) = v;
+    S_->apply(mesh_.vertices, f, Sf);
+    double nf = 0;
+    for (Eigen::Index i = 0; i < n; ++i) nf += area_[i] * normal_.row(i).dot(f.row(i));
+    for (Eigen::Index i = 0; i < n; ++i) Sf.row(i) += (nf / total_area_) * normal_.row(i);
+    y = flat(Sf);
+    return 0.0;
+  };
+  const Eigen::VectorXd bv = flat(b);
+  const double scale = std::sqrt((weight_.array() * bv.array().square()).sum());
+  FixedWallSolve out;
+  if (scale == 0) {
+    traction_.setZero();
+    out.converged = true;
+    return out;
+  }
+  Eigen::VectorXd x = flat(traction_);
+  const GmresResult r = gmres(apply, bv, x, weight_, scale, opt_.gmres);
+  flat(traction_) = x;
+  out.iterations = r.iterations;
+  out.residual = r.residual / scale;
+  out.converged = r.converged;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+void FixedWall::velocity_at(const Points& targets, Points& u, OffSurfaceReport* report) {
+  evaluate_off_surface(*S_, mesh_.vertices, traction_, targets, u, report);
+  std::vector<Eigen::Index> moving;  // elements with a non-zero wall velocity at a vertex
+  const Triangles& t = mesh_.triangles;
+  for (Eigen::Index e = 0; e < t.rows(); ++e)
+    if (velocity_.row(t(e, 0)).squaredNorm() + velocity_.row(t(e, 1)).squaredNorm() +
+            velocity_.row(t(e, 2)).squaredNorm() > 0)
+      moving.push_back(e);
+  const Points& x = mesh_.vertices;
+#pragma omp parallel for schedule(dynamic, 8) num_threads(layer_threads(opt_.layer))
+  for (Eigen::Index k = 0; k < targets.rows(); ++k) {
+    const Vec3 p = targets.row(k).transpose();
+    Vec3 d = Vec3::Zero();
+    for (const Eigen::Index e : moving) {
+      const QuadraticTriangle T = QuadraticTriangle::flat(x.row(t(e, 0)).transpose(), x.row(t(e, 1)).transpose(),
+                                                          x.row(t(e, 2)).transpose());
+      d += adaptive_element_double_layer(p, T, velocity_.row(t(e, 0)).transpose(), velocity_.row(t(e, 1)).transpose(),
+                                         velocity_.row(t(e, 2)).transpose());
+    }
+    u.row(k) += fmm::Stokeslet::scale() * d.transpose();
+  }
+}
+
+}  // namespace capsflow

@@ -1,0 +1,75 @@
+#pragma once
+// A fixed closed wall around the flow with a prescribed velocity u_w on it (docs/channel.md §3): the
+// side of a channel where u_w = 0 and its end caps where u_w is the inflow and outflow profile.
+// For a Stokes flow inside the wall (viscosity 1), Green's identity with the outward normal reads,
+// at every point x of the wall — its edges and corners included —
+//
+//   S[f](x) = −(1/8π) ∫ T(x − y) : (u_w(y) − u_w(x)) n(y) dS_y  =  ½ u_w − D_h[u_w]  (+ what other
+//             surfaces in the flow induce on the wall),
+//
+// for the traction f = σ·n the fluid exerts through the wall, and inside
+//
+//   u(p) = S[f](p) + D[u_w](p).
+//
+// (The subtracted form of the double layer is the interior limit at any boundary point, so no
+// solid angle enters: docs/boundary-integral.md §4.7.1–4.7.3 for S, D_h and their discretisation.)
+// The first-kind equation is singular: S[n] = 0 inside a closed surface (a uniform pressure moves
+// nothing), so the traction is defined up to a multiple of n. The solve takes the one with zero
+// mean normal traction: GMRES (gmres.hpp) on S[f] + n ⟨n, f⟩/|W|, the nodal-area inner product,
+// whose added rank-one term is 1 on n and leaves S untouched on the rest.
+#include <memory>
+
+#include "capsflow/core/bie/double_layer.hpp"
+#include "capsflow/core/bie/gmres.hpp"
+#include "capsflow/core/bie/off_surface.hpp"
+#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/types.hpp"
+
+namespace capsflow {
+
+struct FixedWallOptions {
+  SingleLayerOptions layer;  // the wall's single layer (and the double layer's back end and surface)
+  GmresOptions gmres{1e-8, 60, 2000, 0};  // relative to ‖right-hand side‖ in the nodal-area norm
+};
+
+struct FixedWallSolve {
+  int iterations = 0;
+  double residual = 0;          // relative to the right-hand side
+  bool converged = false;
+  double seconds = 0;
+};
+
+class FixedWall {
+ public:
+  // wall: the closed surface (outward normals); velocity: u_w at its nodes. Sets up the wall's
+  // operators and the right-hand side ½ u_w − D_h[u_w] once (the wall does not move).
+  FixedWall(const SurfaceMesh& wall, const Points& velocity, const FixedWallOptions& opt = {});
+  ~FixedWall();
+
+  // Solves for the traction with `induced` (the velocity other surfaces induce at the wall's
+  // nodes, null for none) added to the right-hand side; warm-started from the last traction.
+  FixedWallSolve solve(const Points* induced = nullptr);
+  const Points& traction() const { return traction_; }
+
+  // u at points inside the wall: S[f] + D[u_w] (the single layer with the near-surface check of
+  // off_surface.hpp; the double layer by adaptive quadrature on the elements where u_w ≠ 0).
+  void velocity_at(const Points& targets, Points& u, OffSurfaceReport* report = nullptr);
+
+  const SurfaceMesh& mesh() const { return mesh_; }
+  const Points& velocity() const { return velocity_; }
+  const Eigen::VectorXd& nodal_area() const { return area_; }
+  const Points& nodal_normal() const { return normal_; }
+
+ private:
+  SurfaceMesh mesh_;
+  Points velocity_;
+  FixedWallOptions opt_;
+  std::unique_ptr<SingleLayer> S_;
+  Points rhs0_;       // ½ u_w − D_h[u_w]
+  Points traction_;
+  Eigen::VectorXd area_, weight_;  // nodal areas; per unknown (3 per node)
+  Points normal_;     // unit area-weighted nodal normals
+  double total_area_ = 0;
+};
+
+}  // namespace capsflow
