@@ -39,7 +39,7 @@ FixedWall::FixedWall(const SurfaceMesh& wall, const Points& velocity, const Fixe
 
 FixedWall::~FixedWall() = default;
 
-FixedWallSolve FixedWall::solve(const Points* induced) {
+FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
   const auto start = std::chrono::steady_clock::now();
   Points b = rhs0_;
   if (induced) b += *induced;
@@ -55,9 +55,10 @@ FixedWallSolve FixedWall::solve(const Points* induced) {
     return 0.0;
   };
   const Eigen::VectorXd bv = flat(b);
-  const double scale = std::sqrt((weight_.array() * bv.array().square()).sum());
+  const double rhs_norm = std::sqrt((weight_.array() * bv.array().square()).sum());
+  const double scale = velocity_scale > 0 ? velocity_scale * std::sqrt(total_area_) : rhs_norm;
   FixedWallSolve out;
-  if (scale == 0) {
+  if (rhs_norm <= opt_.gmres.tolerance * scale) {  // nothing to solve for at this tolerance
     traction_.setZero();
     out.converged = true;
     return out;

@@ -34,7 +34,7 @@ struct FixedWallOptions {
 
 struct FixedWallSolve {
   int iterations = 0;
-  double residual = 0;          // relative to the right-hand side
+  double residual = 0;          // relative to the right-hand side (or to the velocity scale)
   bool converged = false;
   double seconds = 0;
 };
@@ -47,8 +47,10 @@ class FixedWall {
   ~FixedWall();
 
   // Solves for the traction with `induced` (the velocity other surfaces induce at the wall's
-  // nodes, null for none) added to the right-hand side; warm-started from the last traction.
-  FixedWallSolve solve(const Points* induced = nullptr);
+  // nodes, null for none) added to the right-hand side; warm-started from the last traction. The
+  // GMRES tolerance is relative to the right-hand side, or, given a velocity scale > 0 (the flow's),
+  // to that scale: a right-hand side that is round-off of the flow's velocity takes no iteration.
+  FixedWallSolve solve(const Points* induced = nullptr, double velocity_scale = 0);
   const Points& traction() const { return traction_; }
 
   // u at points inside the wall: S[f] + D[u_w] (the single layer with the near-surface check of

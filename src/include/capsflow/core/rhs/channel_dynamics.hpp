@@ -1,0 +1,93 @@
+#pragma once
+// The right-hand side of one capsule in a straight channel's Poiseuille flow (docs/channel.md §4),
+// at viscosity ratio 1: positions x of the capsule → node velocities
+//
+//   v = u_P(x) − S_C[q](x) + S_W[f](x) − U e_x,     S_W[f] = S_C[q] on the wall,
+//
+// the disturbance formulation of docs/channel.md §3.1: u_P the channel's Poiseuille flow
+// (theory/poiseuille.hpp, mean velocity V), q the capsule's load from its wall stage (WallAndLoad),
+// S_C its single layer (at its own nodes as for a capsule alone; at the wall's nodes as a flow
+// off its surface, bie/off_surface.hpp), f the channel wall's disturbance traction (FixedWall,
+// warm-started from the last evaluation), and U the axial velocity of the capsule's volume
+// centroid (the exact rate of the polyhedron's centroid, geometry/measures.hpp: centroid_rate).
+// Subtracting U keeps the capsule where it started along the channel: the frame moves with it,
+// and the channel — straight, so the same wherever the frame is — with its caps always the same
+// distance ahead and behind. axial_velocity() is U, the capsule's speed through the channel.
+// With fluid.volume_correction the capsule's flux is removed as for a capsule alone.
+//
+// The wall traction's warm start is not part of carry(): an evaluation off the trajectory (a
+// probe, an output) moves the next solve's starting point, within the GMRES tolerance.
+//
+// Throws SolverFailure when a node leaves the channel's cross-section or comes within 1e-3
+// element sizes of the wall (off_surface.hpp's too-close limit), or the wall's solve does not
+// converge.
+#include <memory>
+
+#include "capsflow/core/bie/fixed_wall.hpp"
+#include "capsflow/core/bie/single_layer.hpp"
+#include "capsflow/core/mesh/channel.hpp"
+#include "capsflow/core/phase_times.hpp"
+#include "capsflow/core/rhs/capsules_dynamics.hpp"
+#include "capsflow/core/rhs/rhs_counters.hpp"
+#include "capsflow/core/rhs/wall_and_load.hpp"
+#include "capsflow/core/scene/scene.hpp"
+
+namespace capsflow {
+
+struct ChannelFlow {
+  ChannelGeometry geometry;
+  double mean_velocity = 1;  // V
+};
+
+class ChannelDynamics final : public CapsulesDynamics {
+ public:
+  // The capsule's wall and fluid keys are the scene's; the channel is `channel`. Throws
+  // std::invalid_argument at a viscosity ratio ≠ 1.
+  ChannelDynamics(const Scene& scene, const SurfaceMesh& reference, const ChannelFlow& channel, int threads = 0,
+                  std::unique_ptr<shell::Wall> wall = nullptr);
+  ~ChannelDynamics() override;
+
+  void evaluate(const Points& x, Points& v, const EvaluationHint& hint) override;
+  void solve_wall(const Points& x, const EvaluationHint& hint) override;
+  Carry carry() const override;
+  void restore(Carry c) override;
+  void save_fluid_state(nlohmann::json&, Eigen::MatrixXd& matrix) const override { matrix.resize(0, 0); }
+  void load_fluid_state(const nlohmann::json&, const Eigen::MatrixXd&) override {}
+
+  int capsules() const override { return 1; }
+  const Points& load() const override { return wall_load_.load(); }
+  shell::Wall& wall_of(int) override { return wall_load_.wall(); }
+  const shell::Wall& wall_of(int) const override { return wall_load_.wall(); }
+  const SingleLayer& single_layer() const override { return bie_; }
+  const ViscosityRatioSolver* viscosity_ratio_solver() const override { return nullptr; }
+  PhaseTimes times() const override;
+  const RhsCounters& counters() const override { return counters_; }
+
+  const ChannelFlow& channel() const { return channel_; }
+  const FixedWall& channel_wall() const { return *channel_wall_; }
+  double axial_velocity() const { return axial_velocity_; }  // U of the last evaluation
+  const FixedWallSolve& last_wall_solve() const { return last_solve_; }
+  long wall_gmres_iterations() const { return wall_gmres_iterations_; }  // over all evaluations
+  // The channel's Poiseuille velocity (along x) at a point, 0 outside the cross-section.
+  double poiseuille(const Vec3& p) const;
+  // The smallest distance from a capsule node to the channel wall, in wall element sizes, of the
+  // last evaluation.
+  double wall_gap() const { return wall_gap_; }
+
+ private:
+  ChannelFlow channel_;
+  bool volume_correction_;
+  Triangles tri_;
+  WallAndLoad wall_load_;
+  SingleLayer bie_;
+  ChannelMesh mesh_;
+  std::unique_ptr<FixedWall> channel_wall_;
+  Points u_, induced_, from_wall_, area_normal_;  // scratch
+  FixedWallSolve last_solve_;
+  double axial_velocity_ = 0, wall_gap_ = 0;
+  long wall_gmres_iterations_ = 0;
+  PhaseTimes times_;
+  RhsCounters counters_;
+};
+
+}  // namespace capsflow

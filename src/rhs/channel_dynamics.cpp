@@ -1,0 +1,110 @@
+#include "capsflow/core/rhs/channel_dynamics.hpp"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/core/rhs/volume_constraint.hpp"
+#include "capsflow/core/scene/boundary_integral_options.hpp"
+#include "capsflow/core/theory/poiseuille.hpp"
+
+namespace capsflow {
+
+ChannelDynamics::ChannelDynamics(const Scene& scene, const SurfaceMesh& reference, const ChannelFlow& channel,
+                                 int threads, std::unique_ptr<shell::Wall> wall)
+    : channel_(channel),
+      volume_correction_(scene.fluid.volume_correction),
+      tri_(reference.triangles),
+      wall_load_(scene, reference, std::move(wall)),
+      bie_(reference.triangles, reference.num_nodes(), boundary_integral_options(scene, threads)),
+      mesh_(make_channel_mesh(channel.geometry)) {
+  if (scene.fluid.viscosity_ratio != 1.0)
+    throw std::invalid_argument("channel: fluid.viscosity_ratio must be 1 (the double layer with a channel wall is not implemented)");
+  FixedWallOptions o;
+  o.layer = boundary_integral_options(scene, threads);
+  o.layer.geometry = SurfaceGeometry::Flat;  // the wall has edges (the caps' rims): flat facets only
+  o.gmres.tolerance = scene.fluid.tolerance;  // the far field's promise: a tighter wall buys nothing
+  channel_wall_ = std::make_unique<FixedWall>(mesh_.mesh, Points::Zero(mesh_.mesh.num_nodes(), 3), o);
+}
+
+ChannelDynamics::~ChannelDynamics() = default;
+
+double ChannelDynamics::poiseuille(const Vec3& p) const {
+  const ChannelGeometry& g = channel_.geometry;
+  if (g.shape == ChannelShape::Tube) {
+    const double r = std::hypot(p.y(), p.z());
+    return r < g.radius ? tube_poiseuille_velocity(r, g.radius, channel_.mean_velocity) : 0.0;
+  }
+  if (std::abs(p.y()) >= g.radius || std::abs(p.z()) >= g.radius) return 0.0;
+  return duct_poiseuille_velocity(p.y(), p.z(), g.radius, channel_.mean_velocity);
+}
+
+void ChannelDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
+  Stopwatch clock;
+  wall_load_.solve(x, hint, counters_, times_, clock);
+  ++counters_.wall_solves;
+}
+
+CapsulesDynamics::Carry ChannelDynamics::carry() const {
+  return {{wall_load_.wall().state()}, wall_load_.load(), {}};
+}
+
+void ChannelDynamics::restore(Carry c) {
+  wall_load_.wall().set_state(c.walls.at(0));
+  wall_load_.set_load(std::move(c.load));
+}
+
+PhaseTimes ChannelDynamics::times() const {
+  PhaseTimes t = times_;
+  t += bie_.times();
+  return t;
+}
+
+void ChannelDynamics::evaluate(const Points& x, Points& v, const EvaluationHint& hint) {
+  Stopwatch clock;
+  wall_load_.solve(x, hint, counters_, times_, clock);
+  const Points& q = wall_load_.load();
+  bie_.apply(x, q, u_);  // S_C[q] at the capsule's nodes
+
+  // The wall cancels the capsule's disturbance on itself: S_W[f] = S_C[q] at the wall's nodes.
+  clock.restart();
+  OffSurfaceReport on_wall;
+  evaluate_off_surface(bie_, x, q, mesh_.mesh.vertices, induced_, &on_wall);
+  last_solve_ = channel_wall_->solve(&induced_, channel_.mean_velocity);
+  wall_gmres_iterations_ += last_solve_.iterations;
+  if (!last_solve_.converged)
+    throw SolverFailure(fmt::format("channel wall GMRES did not converge (relative residual {:.1e} after {} iterations)",
+                                    last_solve_.residual, last_solve_.iterations));
+  OffSurfaceReport near_wall;
+  channel_wall_->velocity_at(x, from_wall_, &near_wall);  // S_W[f] at the capsule's nodes
+  wall_gap_ = std::numeric_limits<double>::infinity();
+  for (const double r : near_wall.distance_ratio) wall_gap_ = std::min(wall_gap_, r);
+  if (near_wall.too_close > 0 || on_wall.too_close > 0)
+    throw SolverFailure(fmt::format("the capsule touches the channel wall ({} node(s) within {:.0e} wall element sizes)",
+                                    near_wall.too_close, OffSurfaceReport::min_ratio));
+
+  v = from_wall_ - u_;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    const Vec3 p = x.row(i).transpose();
+    const ChannelGeometry& g = channel_.geometry;
+    const bool inside = g.shape == ChannelShape::Tube ? std::hypot(p.y(), p.z()) < g.radius
+                                                      : std::max(std::abs(p.y()), std::abs(p.z())) < g.radius;
+    if (!inside) throw SolverFailure(fmt::format("capsule node {} left the channel's cross-section", i));
+    v(i, 0) += poiseuille(p);
+  }
+  if (volume_correction_) {
+    volume_gradient(x, tri_, area_normal_);
+    remove_normal_flux(area_normal_, v);
+  }
+  // The frame moves with the capsule's centroid along the channel (a uniform velocity has no flux).
+  axial_velocity_ = centroid_rate(x, tri_, v).x();
+  v.col(0).array() -= axial_velocity_;
+  clock.lap(times_, Phase::Other);
+  ++counters_.evaluations;
+  if (!v.allFinite()) throw SolverFailure("non-finite velocity");
+}
+
+}  // namespace capsflow

@@ -1,0 +1,82 @@
+// ChannelDynamics (rhs/channel_dynamics.hpp): a capsule in a tube's Poiseuille flow, in the frame
+// that moves with its centroid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/core/mesh/reference_mesh.hpp"
+#include "capsflow/core/rhs/channel_dynamics.hpp"
+#include "capsflow/core/theory/poiseuille.hpp"
+
+namespace capsflow {
+namespace {
+
+Scene sphere_scene(std::vector<std::string> more = {}) {
+  std::vector<std::string> o = {"mesh.level=2", "mesh.shape=\"sphere\"", "wall.model=\"membrane\"", "wall.law=\"skalak\"",
+                                "flow.ca_s=0.05"};
+  o.insert(o.end(), more.begin(), more.end());
+  return parse_scene(default_scene_toml(), "test", o);
+}
+
+ChannelFlow tube(double R) {
+  ChannelFlow c;
+  c.geometry.radius = R, c.geometry.length = 4 * R, c.geometry.element_size = R / 5;
+  return c;
+}
+
+// A capsule at its reference shape carries no load, so nothing disturbs the flow: the wall's
+// traction stays zero (no GMRES iteration) and every node moves with Poiseuille's flow less the
+// centroid's axial velocity U — which is that flow's mean over the capsule's volume (dc/dt =
+// ∫ x (u·n) dS / V = ∫ u dV / V for a divergence-free u), here for a sphere of radius a on the
+// axis 2V(1 − 2a²/(5R²)) (the volume average of y² + z² over a sphere is 2a²/5): to the
+// polyhedron's O(h²) (level 2: 0.5 % relative, bound 1 %).
+TEST(ChannelDynamics, AnUnloadedCapsuleMovesWithThePoiseuilleFlowAndLeavesTheWallAtRest) {
+  const Scene s = sphere_scene();
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  const double R = 2;
+  ChannelDynamics d(s, ref, tube(R));
+  Points v;
+  d.evaluate(ref.vertices, v, {EvaluationHint::Role::Trajectory, 0});
+  EXPECT_EQ(d.last_wall_solve().iterations, 0) << "the reference shape's load is round-off";
+  EXPECT_EQ(d.channel_wall().traction().norm(), 0.0);
+  const double U = d.axial_velocity();
+  EXPECT_NEAR(U / (2 * (1 - 2.0 / (5 * R * R))), 1, 1e-2);
+  double worst = 0;
+  for (Eigen::Index i = 0; i < ref.num_nodes(); ++i) {
+    const Vec3 x = ref.vertices.row(i).transpose();
+    const Vec3 expected(tube_poiseuille_velocity(std::hypot(x.y(), x.z()), R, 1.0) - U, 0, 0);
+    worst = std::max(worst, (v.row(i).transpose() - expected).norm());
+  }
+  // The volume correction moves the nodes by the P1 flux error only (a uniform flow through a
+  // closed polyhedron has none; Poiseuille's curvature over 162 nodes: below 1e-3).
+  EXPECT_LT(worst, 1e-3);
+  // In the moving frame the centroid stands still along the channel.
+  EXPECT_NEAR(centroid_rate(ref.vertices, ref.triangles, v).x(), 0, 1e-12);
+}
+
+// A loaded capsule (stretched along the axis at constant volume) disturbs the flow and the wall
+// cancels that disturbance on itself: its traction is then nonzero, from a converged solve.
+TEST(ChannelDynamics, TheWallAnswersALoadedCapsule) {
+  const Scene s = sphere_scene();
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  ChannelDynamics d(s, ref, tube(1.6));
+  Points x = ref.vertices;
+  x.col(0) *= 1.1;
+  x.col(1) /= std::sqrt(1.1), x.col(2) /= std::sqrt(1.1);
+  Points v;
+  d.evaluate(x, v, {EvaluationHint::Role::Trajectory, 0});
+  EXPECT_TRUE(d.last_wall_solve().converged);
+  EXPECT_GT(d.last_wall_solve().iterations, 0);
+  EXPECT_GT(d.channel_wall().traction().norm(), 0);
+  EXPECT_GT(d.wall_gap(), 1) << "the capsule is more than a wall element from the wall";
+  EXPECT_NEAR(centroid_rate(x, ref.triangles, v).x(), 0, 1e-12) << "the frame moves with the centroid";
+}
+
+TEST(ChannelDynamics, RefusesAViscosityRatioOtherThanOne) {
+  const Scene s = sphere_scene({"fluid.viscosity_ratio=2"});
+  EXPECT_THROW(ChannelDynamics(s, make_reference_mesh(s.mesh), tube(2)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace capsflow
