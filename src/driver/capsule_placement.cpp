@@ -8,6 +8,7 @@
 
 #include "capsflow/core/bie/cross_near_field.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
+#include "capsflow/core/mesh/stats.hpp"
 
 namespace capsflow {
 
@@ -45,6 +46,36 @@ void check_capsules_apart(const Scene& scene, const SurfaceSet& set) {
     throw SceneError(fmt::format("capsules {} and {} overlap where they start ({} node(s) of one inside the other): {}",
                                             a + 1, b + 1, cross.inside_nodes(), what_to_change(scene, b)));
   }
+}
+
+ChannelFlow channel_flow_of(const Scene& scene, const SurfaceMesh& capsule) {
+  const ChannelSpec& c = scene.channel;
+  ChannelFlow out;
+  out.geometry.shape = c.shape == ChannelKind::Tube ? ChannelShape::Tube : ChannelShape::SquareDuct;
+  out.geometry.radius = c.radius;
+  out.geometry.length = c.length;
+  const double edge = mesh_stats(capsule).edge_mean;
+  out.geometry.element_size = c.element_size_auto ? std::max(edge, c.radius / 8) : c.element_size;
+  const double h = out.geometry.element_size;
+  if (h > 4 * edge)
+    throw SceneError(fmt::format("channel.element_size: {:.4g} is more than 4 times the capsule's mean edge {:.4g}", h, edge));
+  if (h > c.radius)
+    throw SceneError(fmt::format("channel.element_size: {:.4g} is larger than channel.radius = {:.4g}", h, c.radius));
+  double reach = 0, x_min = capsule.vertices.col(0).minCoeff(), x_max = capsule.vertices.col(0).maxCoeff();
+  for (Eigen::Index i = 0; i < capsule.num_nodes(); ++i) {
+    const double y = capsule.vertices(i, 1), z = capsule.vertices(i, 2);
+    reach = std::max(reach, out.geometry.shape == ChannelShape::Tube ? std::hypot(y, z) : std::max(std::abs(y), std::abs(z)));
+  }
+  if (reach > c.radius - 0.1 * h)
+    throw SceneError(fmt::format("channel.radius: {:.4g} is too small: the capsule reaches {:.4g} from the axis, and must "
+                                 "start at least a tenth of a wall element ({:.3g}) inside the wall",
+                                 c.radius, reach, 0.1 * h));
+  const double needed = 2 * std::max(std::abs(x_min), std::abs(x_max)) + 4 * c.radius;
+  if (c.length < needed)
+    throw SceneError(fmt::format("channel.length: {:.4g} is too short: the capsule spans x1 in [{:.3g}, {:.3g}] and its "
+                                 "disturbance needs 2 radii to each cap: at least {:.4g}",
+                                 c.length, x_min, x_max, needed));
+  return out;
 }
 
 }  // namespace capsflow

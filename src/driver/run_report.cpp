@@ -173,6 +173,21 @@ nlohmann::json Simulation::Impl::summary() const {
                                                      {"samples", D.identity.samples.size()},
                                                      {"refresh_fmm_order", D.refresh_fmm_order}};
   }
+  if (channel) {  // docs/channel.md §4
+    const ChannelFlow& c = channel->channel();
+    const SurfaceMesh& w = channel->channel_wall().mesh();
+    const double ratio = channel->axial_velocity() / c.mean_velocity;
+    summary["velocity_ratio"] = ratio;
+    summary["channel"] = {{"shape", to_string(scene.channel.shape)},
+                          {"radius", c.geometry.radius},
+                          {"length", c.geometry.length},
+                          {"element_size", c.geometry.element_size},
+                          {"wall_nodes", w.num_nodes()},
+                          {"wall_elements", w.num_elements()},
+                          {"velocity_ratio", ratio},
+                          {"wall_gap", channel->wall_gap()},
+                          {"wall_gmres_iterations", channel->wall_gmres_iterations()}};
+  }
   if (far_check->enabled()) summary[far_check->name()] = far_check->summary(dyn->single_layer());
   if (dl_far_check->enabled())
     summary[dl_far_check->name()] = dl_far_check->summary(dyn->viscosity_ratio_solver()->double_layer());

@@ -124,8 +124,13 @@ void Simulation::Impl::set_wall_state(const Eigen::VectorXd& all) {
 void Simulation::Impl::make_parts() {
   steady = std::make_unique<SteadyStateDetector>(scene.time.steady_tol);
   suspension = nullptr;
+  channel = nullptr;
   gap.reset();
-  if (capsules() == 1) {
+  if (scene.channel.active()) {
+    auto in_channel = std::make_unique<ChannelDynamics>(scene.capsule_scene(0), ref, channel_flow_of(scene, ref), threads);
+    channel = in_channel.get();
+    dyn = std::move(in_channel);
+  } else if (capsules() == 1) {
     dyn = std::make_unique<CapsuleDynamics>(scene.capsule_scene(0), ref, threads);
   } else {
     auto several = std::make_unique<SuspensionDynamics>(
@@ -212,6 +217,7 @@ void Simulation::Impl::set_up_folder(io::CheckpointState& ck) {
   if (opt.restart.empty()) {  // a bad mesh or overlapping capsules are refused before any folder exists
     SurfaceSet set = place_capsules(opt.scene);
     check_capsules_apart(opt.scene, set);
+    if (opt.scene.channel.active()) channel_flow_of(opt.scene, set.mesh());  // a capsule that does not fit is refused here
     ref = set.mesh();
     surfaces = std::make_unique<SurfaceSet>(std::move(set));
   }

@@ -28,6 +28,7 @@
 #include "capsflow/core/geometry/surface_set.hpp"
 #include "capsflow/core/health/surface_gap_watch.hpp"
 #include "capsflow/core/rhs/capsules_dynamics.hpp"
+#include "capsflow/core/rhs/channel_dynamics.hpp"
 #include "capsflow/core/rhs/suspension_dynamics.hpp"
 #include "capsflow/core/stepping/time_plan.hpp"
 #include "capsflow/core/stepping/time_stepper.hpp"
@@ -163,6 +164,7 @@ struct Simulation::Impl {
   Vec3 capsule_centroid_lab(const Vec3& common_lab, const Vec3& common_frame, const Points& x, int k) const;
   std::unique_ptr<CapsulesDynamics> dyn;   // the right-hand side: CapsuleDynamics, or SuspensionDynamics
   SuspensionDynamics* suspension = nullptr;  // dyn, when there are several capsules
+  ChannelDynamics* channel = nullptr;        // dyn, in a channel
   TimePlan plan;                           // how the run is stepped (stepping/time_plan.hpp)
   bool plan_from_checkpoint = false;       // a restart kept its checkpoint's plan
   std::unique_ptr<TimeStepper> stepper;    // the plan's scheme

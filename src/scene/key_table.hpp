@@ -269,6 +269,7 @@ const Section<FluidSpec>& fluid_keys();
 const Section<OutputSpec>& output_keys();
 const Section<LayoutSpec>& layout_keys();
 const Section<ContactSpec>& contact_keys();
+const Section<ChannelSpec>& channel_keys();
 
 // Calls f(section) for every section, in the order of the TOML file.
 template <class F>
@@ -281,6 +282,7 @@ void for_each_section(F&& f) {
   f(output_keys());
   f(layout_keys());
   f(contact_keys());
+  f(channel_keys());
 }
 
 // The accepted Ca_s, whether given (flow.ca_s) or derived from flow.ca_v and the thickness.

@@ -211,7 +211,9 @@ const Section<WallSpec>& wall_keys() {
 const Section<FlowSpec>& flow_keys() {
   static const Section<FlowSpec> s{
       "flow", &Scene::flow,
-      {choice("type", &FlowSpec::type, FlowType::PlanarHyperbolic, "imposed flow (`docs/conventions.md` §3)"),
+      {choice("type", &FlowSpec::type, FlowType::PlanarHyperbolic,
+              "imposed flow (`docs/conventions.md` §3); `poiseuille`: through a `[channel]` at mean velocity V, "
+              "which then stands for γ̇ℓ in every unit (Ca_s = μV/G_s, time in ℓ/V; `docs/channel.md`)"),
        flow_ca_v("Ca_v = μγ̇/G; then ca_s = ca_v/thickness, which must lie in " + capillary_range().interval()),
        flow_ca_s("Ca_s = μγ̇ℓ/G_s; then ca_v = ca_s·thickness"),
        flow_gradient("L of v∞ = L x; required with `type = \"linear\"`, refused otherwise")}};
@@ -357,6 +359,25 @@ const Section<ContactSpec>& contact_keys() {
   return s;
 }
 
+const Section<ChannelSpec>& channel_keys() {
+  static const Section<ChannelSpec> s{
+      "channel", &Scene::channel,
+      {choice("shape", &ChannelSpec::shape, ChannelKind::None,
+              "a straight channel along x1 around the capsule (`docs/channel.md`): `tube` (circular) or `square_duct`, "
+              "closed by an inlet and an outlet cap, with Poiseuille's flow through it (`flow.type = \"poiseuille\"`, "
+              "required with a channel and only with one); `none`: unbounded flow"),
+       number("radius", &ChannelSpec::radius, 1.25, above(0.0),
+              "tube radius or duct half-width, in ℓ (1.25: confinement ℓ/radius = 0.8); the capsule must start inside it"),
+       number("length", &ChannelSpec::length, 10.0, above(0.0),
+              "from inlet to outlet, in ℓ; at least the capsule's length along x1 plus 4 radii, so that the capsule's "
+              "disturbance has decayed at the caps (`docs/channel.md` §3.1)"),
+       number_or_auto("element_size", &ChannelSpec::element_size, &ChannelSpec::element_size_auto, above(0.0),
+                      "a positive number", 0.0,
+                      "the wall's target edge length, in ℓ; `\"auto\"`: the capsule's mean edge, but not finer than "
+                      "radius/8 (`docs/channel.md` §4); at most 4 times the capsule's mean edge")}};
+  return s;
+}
+
 }  // namespace scene_detail
 
 // Each section struct starts from the table's defaults.
@@ -375,5 +396,6 @@ FluidSpec::FluidSpec() { set_defaults(scene_detail::fluid_keys(), *this); }
 OutputSpec::OutputSpec() { set_defaults(scene_detail::output_keys(), *this); }
 LayoutSpec::LayoutSpec() { set_defaults(scene_detail::layout_keys(), *this); }
 ContactSpec::ContactSpec() { set_defaults(scene_detail::contact_keys(), *this); }
+ChannelSpec::ChannelSpec() { set_defaults(scene_detail::channel_keys(), *this); }
 
 }  // namespace capsflow

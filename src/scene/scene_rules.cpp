@@ -52,6 +52,19 @@ void check_several_capsules(const TomlReader& r, const Scene& s) {
     r.fail("time", "stop_at_steady", "several capsules have no steady-state test: set time.t_end instead");
 }
 
+// A channel and its flow go together, with one capsule at λ = 1 (docs/channel.md).
+void check_channel(const TomlReader& r, const Scene& s) {
+  const bool poiseuille = s.flow.type == FlowType::Poiseuille;
+  if (s.channel.active() && !poiseuille) r.fail("flow", "type", "must be \"poiseuille\" with a [channel]");
+  if (!s.channel.active() && poiseuille)
+    r.fail("channel", "shape", "a Poiseuille flow needs a channel: set channel.shape to \"tube\" or \"square_duct\"");
+  if (!s.channel.active()) return;
+  if (s.capsule_centers().size() > 1)
+    r.fail("channel", "shape", "holds one capsule: several capsules in a channel are not implemented");
+  if (s.fluid.viscosity_ratio != 1.0)
+    r.fail("fluid", "viscosity_ratio", "must be 1 in a channel (the double layer with a channel wall is not implemented)");
+}
+
 void check_rules(const TomlReader& r, const Scene& s) {
   const FlowSpec& f = s.flow;
   if (r.has("flow", "ca_v") && r.has("flow", "ca_s")) r.fail("flow", "ca_s", "give either flow.ca_s or flow.ca_v, not both");
@@ -72,6 +85,7 @@ void check_rules(const TomlReader& r, const Scene& s) {
   if (!s.time.dt_auto) check_count(r, "time", "dt", s.time.dt, t_end, kMaxSteps, "steps");
   check_count(r, "output", "every", s.output.every, t_end, kMaxOutputs, "outputs");
   check_several_capsules(r, s);
+  check_channel(r, s);
   if (s.output.checkpoint_every > 0)
     check_count(r, "output", "checkpoint_every", s.output.checkpoint_every, t_end, kMaxOutputs, "checkpoints");
 }

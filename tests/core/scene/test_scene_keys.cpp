@@ -142,6 +142,8 @@ checkpoint_every = 0
   expected.replace(expected.find("geometry = \"curved\"\n"), 20, "geometry = \"curved\"\nfar_rule = \"auto\"\n");
   // ... and the sections of several capsules, with their defaults (one capsule, no repulsion).
   expected += "\n[layout]\ncount = 1\ndx = 0\ndy = 0\ndz = 0\n\n[contact]\nrepulsion_range = 0\nrepulsion_strength = 1\nmin_gap = 0.05\n";
+  // ... and the channel's, with its defaults (none: unbounded flow).
+  expected += "\n[channel]\nshape = \"none\"\nradius = 1.25\nlength = 10\nelement_size = \"auto\"\n";
   EXPECT_EQ(to_toml(parse_scene(stored, "checkpoint")), expected);
 }
 

@@ -10,16 +10,20 @@ namespace capsflow {
 
 enum class MeshShape { Sphere, Spheroid, Biconcave };
 enum class WallModel { Membrane, Gsmb };
-enum class FlowType { PlanarHyperbolic, SimpleShear, Linear, Quiescent };
+enum class FlowType { PlanarHyperbolic, SimpleShear, Linear, Quiescent, Poiseuille };
+enum class ChannelKind { None, Tube, SquareDuct };
 enum class OutputField { Velocity, Load, Energy };
 
 inline constexpr NameTable<MeshShape, 3> kMeshShapeNames{
     {{MeshShape::Sphere, "sphere"}, {MeshShape::Spheroid, "spheroid"}, {MeshShape::Biconcave, "biconcave"}}};
 inline constexpr NameTable<WallModel, 2> kWallModelNames{{{WallModel::Membrane, "membrane"}, {WallModel::Gsmb, "gsmb"}}};
-inline constexpr NameTable<FlowType, 4> kFlowTypeNames{{{FlowType::PlanarHyperbolic, "planar_hyperbolic"},
+inline constexpr NameTable<FlowType, 5> kFlowTypeNames{{{FlowType::PlanarHyperbolic, "planar_hyperbolic"},
                                                         {FlowType::SimpleShear, "simple_shear"},
                                                         {FlowType::Linear, "linear"},
-                                                        {FlowType::Quiescent, "quiescent"}}};
+                                                        {FlowType::Quiescent, "quiescent"},
+                                                        {FlowType::Poiseuille, "poiseuille"}}};
+inline constexpr NameTable<ChannelKind, 3> kChannelKindNames{
+    {{ChannelKind::None, "none"}, {ChannelKind::Tube, "tube"}, {ChannelKind::SquareDuct, "square_duct"}}};
 inline constexpr NameTable<OutputField, 3> kOutputFieldNames{
     {{OutputField::Velocity, "velocity"}, {OutputField::Load, "load"}, {OutputField::Energy, "energy"}}};
 
@@ -27,6 +31,7 @@ inline constexpr NameTable<OutputField, 3> kOutputFieldNames{
 constexpr const auto& name_table(MeshShape) { return kMeshShapeNames; }
 constexpr const auto& name_table(WallModel) { return kWallModelNames; }
 constexpr const auto& name_table(FlowType) { return kFlowTypeNames; }
+constexpr const auto& name_table(ChannelKind) { return kChannelKindNames; }
 constexpr const auto& name_table(OutputField) { return kOutputFieldNames; }
 
 }  // namespace capsflow

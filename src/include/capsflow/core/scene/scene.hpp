@@ -119,6 +119,19 @@ struct ContactSpec {
   double min_gap;             // element sizes: below it the surface_gap condition begins
 };
 
+// A straight channel around the capsule ([channel]; docs/channel.md): its shape along x, the
+// capsule on its axis unless moved, Poiseuille's flow through it at mean velocity V = 1 (flow.type =
+// "poiseuille", Ca_s = μV/G_s).
+struct ChannelSpec {
+  ChannelSpec();
+  ChannelKind shape;          // none: unbounded flow
+  double radius;              // tube radius or duct half-width, in ℓ
+  double length;              // from inlet to outlet, in ℓ
+  double element_size;        // the wall's target edge, in ℓ (resolved from the capsule's under "auto")
+  bool element_size_auto = true;
+  bool active() const { return shape != ChannelKind::None; }
+};
+
 struct Scene {
   Scene();                                    // the defaults, resolved (= the scene of an empty file)
   std::string source = "<built-in default>";  // file the scene came from
@@ -131,6 +144,7 @@ struct Scene {
   OutputSpec output;
   LayoutSpec layout;
   ContactSpec contact;
+  ChannelSpec channel;
   std::vector<CapsuleSpec> capsules;          // [[capsule]] as given; empty: [layout]'s row
   bool wants_field(OutputField f) const;
   // The capsules' centres: the [[capsule]] array, else [layout]'s row ({0, 0, 0} for one capsule:

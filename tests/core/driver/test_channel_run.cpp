@@ -1,0 +1,127 @@
+// A capsule in a channel through the whole run (Simulation) and the channel's scene rules: the
+// keys that go together, the capsule that does not fit, the channel that is too short or too
+// coarse, each refused with one line naming its key; a run's velocity_ratio and lab centroid
+// against the right-hand side itself (rhs/channel_dynamics.hpp, tested in
+// tests/core/rhs/test_channel_dynamics.cpp).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "capsflow/core/driver/capsule_placement.hpp"
+#include "capsflow/core/driver/simulation.hpp"
+#include "capsflow/core/mesh/reference_mesh.hpp"
+#include "capsflow/core/mesh/stats.hpp"
+#include "capsflow/core/scene/scene.hpp"
+
+namespace capsflow {
+namespace {
+namespace fs = std::filesystem;
+
+// An 80-element Skalak sphere in a tube of radius 1.6 (confinement 0.625), to t = 0.2 ℓ/V.
+constexpr const char* kTinyTube = R"([mesh]
+base = "icosahedron"
+level = 1
+shape = "sphere"
+[wall]
+model = "membrane"
+law = "skalak"
+[flow]
+type = "poiseuille"
+ca_s = 0.05
+[time]
+t_end = 0.2
+[output]
+every = 0.1
+checkpoint_every = 0.1
+[channel]
+shape = "tube"
+radius = 1.6
+length = 9
+element_size = 0.4
+)";
+
+Scene tube_scene(const std::vector<std::string>& overrides = {}) { return parse_scene(kTinyTube, "tube.toml", overrides); }
+
+// The message of the SceneError that `f` throws, or "" when it throws none.
+template <class F>
+std::string refusal(F&& f) {
+  try {
+    f();
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ChannelScene, TheChannelAndItsFlowGoTogetherWithOneCapsuleAtViscosityRatioOne) {
+  EXPECT_NO_THROW(tube_scene());
+  EXPECT_NE(refusal([] { tube_scene({"flow.type=\"simple_shear\""}); }).find("flow.type"), std::string::npos);
+  EXPECT_NE(refusal([] { tube_scene({"channel.shape=\"none\""}); }).find("channel.shape"), std::string::npos);
+  EXPECT_NE(refusal([] { tube_scene({"fluid.viscosity_ratio=2"}); }).find("fluid.viscosity_ratio"), std::string::npos);
+  EXPECT_NE(refusal([] { tube_scene({"layout.count=2", "layout.dx=3"}); }).find("channel.shape"), std::string::npos);
+  EXPECT_NE(refusal([] { tube_scene({"channel.radius=0"}); }).find("channel.radius"), std::string::npos);
+  EXPECT_NE(refusal([] { tube_scene({"channel.element_size=\"fine\""}); }).find("channel.element_size"), std::string::npos);
+}
+
+TEST(ChannelScene, ACapsuleThatDoesNotFitAShortChannelAndACoarseWallAreRefusedByKey) {
+  auto check = [](const std::vector<std::string>& o) {
+    const Scene s = tube_scene(o);
+    return refusal([&] { channel_flow_of(s, make_reference_mesh(s.mesh)); });
+  };
+  EXPECT_EQ(check({}), "");
+  EXPECT_NE(check({"channel.radius=0.98"}).find("channel.radius"), std::string::npos) << "the sphere reaches 1";
+  EXPECT_NE(check({"channel.length=7"}).find("channel.length"), std::string::npos) << "2 + 4 × 1.6 = 8.4 needed";
+  EXPECT_NE(check({"mesh.level=3", "channel.element_size=0.8"}).find("4 times"), std::string::npos)
+      << "more than 4 mean edges (0.15) of the 1280-element sphere";
+  EXPECT_NE(check({"channel.element_size=1.7"}).find("channel.element_size"), std::string::npos) << "above the radius";
+  // "auto": the capsule's mean edge, not finer than radius/8.
+  const Scene s = tube_scene({"channel.element_size=\"auto\""});
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  EXPECT_NEAR(channel_flow_of(s, ref).geometry.element_size, std::max(mesh_stats(ref).edge_mean, 1.6 / 8), 1e-15);
+}
+
+TEST(ChannelRun, WritesTheCapsulesSpeedThroughTheChannelAndItsLabPosition) {
+  const fs::path dir = fs::temp_directory_path() / ("capsflow-channel-run-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  RunOptions o;
+  o.scene = tube_scene();
+  o.output_dir = dir.string();
+  o.threads = 1;
+  ASSERT_EQ(Simulation(o).run(), 0);
+  std::ifstream f(dir / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(f);
+  EXPECT_EQ(s.at("stop_reason"), "t_end");
+  // The run's first evaluation is the right-hand side's at the reference state, bit for bit.
+  const SurfaceMesh ref = make_reference_mesh(o.scene.mesh);
+  ChannelDynamics d(o.scene, ref, channel_flow_of(o.scene, ref), 1);
+  Points v;
+  d.evaluate(ref.vertices, v, {EvaluationHint::Role::Trajectory, 0});
+  std::ifstream csv(dir / "timeseries.csv");
+  std::string header, first;
+  std::getline(csv, header), std::getline(csv, first);
+  std::vector<std::string> names, values;
+  for (std::stringstream h(header); std::getline(h, names.emplace_back(), ',');) {}
+  for (std::stringstream r(first); std::getline(r, values.emplace_back(), ',');) {}
+  const auto column = std::find(names.begin(), names.end(), "velocity_ratio") - names.begin();
+  ASSERT_LT(column, static_cast<long>(names.size()) - 1) << "timeseries.csv has velocity_ratio";
+  EXPECT_EQ(std::stod(values[static_cast<std::size_t>(column)]), d.axial_velocity());
+  // Confined, the capsule is slower than Poiseuille's mean over its volume unconfined (1.84 at this
+  // radius, rhs test) and faster than the mean flow.
+  const double U = s.at("velocity_ratio").get<double>();
+  EXPECT_GT(U, 1.0);
+  EXPECT_LT(U, 2 * (1 - 2.0 / (5 * 1.6 * 1.6)));
+  // The lab centroid travels with the capsule: U t to within U's change over the run (2 %).
+  EXPECT_NEAR(s.at("centroid")[0].get<double>() / (U * 0.2), 1, 0.02);
+  EXPECT_EQ(s.at("channel").at("shape"), "tube");
+  EXPECT_GT(s.at("channel").at("wall_nodes").get<long>(), 0);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace capsflow
