@@ -1,6 +1,6 @@
 // capsule_in_tube — one capsule starting as a sphere on the axis of a tube, carried by Poiseuille's
 // flow (V = 1, time in a/V), stepped by ChannelDynamics under error control in the frame that moves
-// with its centroid (docs/channel.md §4). Prints a JSON line every --every of t (U/V, the
+// with its centroid (docs/channel.md §4). Prints a JSON line every --every of t (U/V, Δp⁺ two ways, the
 // capsule's axial half-length and largest radial half-extent in units of a, the wall's GMRES
 // iterations per evaluation) and a summary line.
 //   capsule_in_tube --ratio 0.5 --level 2 --set flow.ca_s=0.01 --t-end 2 --threads 2
@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
   auto line = [&](const char* kind) {
     const Vec3 he = half_extents(SurfaceMesh{x, ref.triangles});
     nlohmann::json j = {{"kind", kind}, {"t", t}, {"steps", steps}, {"evaluations", d.counters().evaluations},
-                        {"U_over_V", d.axial_velocity() / channel.mean_velocity}, {"half_length", he.x()},
+                        {"U_over_V", d.axial_velocity() / channel.mean_velocity}, {"pressure_drop", d.pressure_drop()},
+                        {"pressure_drop_caps", d.pressure_drop_from_caps()}, {"half_length", he.x()},
                         {"radial_half_extent", std::max(he.y(), he.z())}, {"wall_gap", d.wall_gap()},
                         {"wall_gmres_per_evaluation", d.counters().evaluations ? double(d.wall_gmres_iterations()) / d.counters().evaluations : 0.0},
                         {"volume", enclosed_volume(SurfaceMesh{x, ref.triangles})}, {"seconds", seconds()}};

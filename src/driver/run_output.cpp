@@ -137,9 +137,9 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
     const CapsuleWatch& w = watch[0];
     row.insert(row.end(), {{"D_flow", w.last_plane_shape.D}, {"theta", w.last_plane_shape.theta * 180 / M_PI},
                            {"tank_treading", w.last_tank_treading}});
-    if (channel)  // the capsule's speed through the channel over V, and its closest approach to the wall
+    if (channel)  // the capsule's speed through the channel over V, its added pressure drop, its closest approach to the wall
       row.insert(row.end(), {{"velocity_ratio", channel->axial_velocity() / channel->channel().mean_velocity},
-                             {"wall_gap", channel->wall_gap()}});
+                             {"pressure_drop", channel->pressure_drop()}, {"wall_gap", channel->wall_gap()}});
   } else {  // each capsule's columns prefixed "c<k>." (docs/several-capsules.md), then the run's
     const Vec3 common = volume_moments(x, ref.triangles).centroid;
     // The velocities at x, where this row evaluated them (the state's, or asked for by output.fields).

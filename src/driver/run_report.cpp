@@ -178,6 +178,7 @@ nlohmann::json Simulation::Impl::summary() const {
     const SurfaceMesh& w = channel->channel_wall().mesh();
     const double ratio = channel->axial_velocity() / c.mean_velocity;
     summary["velocity_ratio"] = ratio;
+    summary["pressure_drop"] = channel->pressure_drop();
     summary["channel"] = {{"shape", to_string(scene.channel.shape)},
                           {"radius", c.geometry.radius},
                           {"length", c.geometry.length},
@@ -185,6 +186,8 @@ nlohmann::json Simulation::Impl::summary() const {
                           {"wall_nodes", w.num_nodes()},
                           {"wall_elements", w.num_elements()},
                           {"velocity_ratio", ratio},
+                          {"pressure_drop", channel->pressure_drop()},
+                          {"pressure_drop_caps", channel->pressure_drop_from_caps()},
                           {"wall_gap", channel->wall_gap()},
                           {"wall_gmres_iterations", channel->wall_gmres_iterations()}};
   }

@@ -87,14 +87,19 @@ void ChannelDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
                                     near_wall.too_close, OffSurfaceReport::min_ratio));
 
   v = from_wall_ - u_;
+  const Eigen::VectorXd area = nodal_areas(SurfaceMesh{x, tri_});
+  double work = 0;  // ∫ q·u_P dS, the load P1 and u_P at the nodes (lumped: O(h²) as the rest)
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     const Vec3 p = x.row(i).transpose();
     const ChannelGeometry& g = channel_.geometry;
     const bool inside = g.shape == ChannelShape::Tube ? std::hypot(p.y(), p.z()) < g.radius
                                                       : std::max(std::abs(p.y()), std::abs(p.z())) < g.radius;
     if (!inside) throw SolverFailure(fmt::format("capsule node {} left the channel's cross-section", i));
-    v(i, 0) += poiseuille(p);
+    const double up = poiseuille(p);
+    v(i, 0) += up;
+    work += area[i] * q(i, 0) * up;
   }
+  pressure_drop_ = work / (channel_.mean_velocity * channel_cross_section_area(channel_.geometry));
   if (volume_correction_) {
     volume_gradient(x, tri_, area_normal_);
     remove_normal_flux(area_normal_, v);
@@ -105,6 +110,26 @@ void ChannelDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
   clock.lap(times_, Phase::Other);
   ++counters_.evaluations;
   if (!v.allFinite()) throw SolverFailure("non-finite velocity");
+}
+
+double ChannelDynamics::pressure_drop_from_caps() const {
+  const Points& f = channel_wall_->traction();
+  const Points& n = channel_wall_->nodal_normal();
+  const Eigen::VectorXd& a = channel_wall_->nodal_area();
+  const ChannelGeometry& g = channel_.geometry;
+  double p_in = 0, p_out = 0, a_in = 0, a_out = 0;
+  for (Eigen::Index i = 0; i < f.rows(); ++i) {
+    const ChannelRegion region = mesh_.node_region[static_cast<std::size_t>(i)];
+    const double y = mesh_.mesh.vertices(i, 1), z = mesh_.mesh.vertices(i, 2);
+    const double from_axis = g.shape == ChannelShape::Tube ? std::hypot(y, z) : std::max(std::abs(y), std::abs(z));
+    if (region == ChannelRegion::Side || from_axis > g.radius - 1.5 * g.element_size) continue;
+    const double p = -f.row(i).dot(n.row(i));
+    if (region == ChannelRegion::Inlet)
+      p_in += p * a[i], a_in += a[i];
+    else
+      p_out += p * a[i], a_out += a[i];
+  }
+  return a_in > 0 && a_out > 0 ? p_in / a_in - p_out / a_out : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace capsflow

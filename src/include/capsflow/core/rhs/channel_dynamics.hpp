@@ -73,6 +73,13 @@ class ChannelDynamics final : public CapsulesDynamics {
   // The smallest distance from a capsule node to the channel wall, in wall element sizes, of the
   // last evaluation.
   double wall_gap() const { return wall_gap_; }
+  // The additional pressure drop Δp⁺ the capsule causes (in μV/ℓ), of the last evaluation, by the
+  // reciprocal theorem with Poiseuille's flow (docs/channel.md §4): Q Δp⁺ = ∫_C q·u_P dS, Q the
+  // flux; and the same read from the wall's traction, the difference of the caps' mean pressure
+  // −f·n over their nodes more than 1.5 wall elements from the rim — a check through the wall's
+  // solve, with the caps' O(h) error.
+  double pressure_drop() const { return pressure_drop_; }
+  double pressure_drop_from_caps() const;
 
  private:
   ChannelFlow channel_;
@@ -84,7 +91,7 @@ class ChannelDynamics final : public CapsulesDynamics {
   std::unique_ptr<FixedWall> channel_wall_;
   Points u_, induced_, from_wall_, area_normal_;  // scratch
   FixedWallSolve last_solve_;
-  double axial_velocity_ = 0, wall_gap_ = 0;
+  double axial_velocity_ = 0, wall_gap_ = 0, pressure_drop_ = 0;
   long wall_gmres_iterations_ = 0;
   PhaseTimes times_;
   RhsCounters counters_;
