@@ -50,6 +50,16 @@ int info_command(const InfoOptions& opt) {
                info["capsules"]["count"].get<long>(),
                info["capsules"]["alike"].get<bool>() ? " of this mesh" : " (the mesh above is capsule 1's; some have keys of their own)",
                info["capsules"]["elements"].get<long>(), info["capsules"]["nodes"].get<long>());
+  if (info.contains("channel")) {
+    const nlohmann::json& c = info["channel"];
+    fmt::print("channel         {} of radius {:g} and length {:g}; wall of {} elements, {} nodes (element size {:.4g}{}); its "
+               "solve: GMRES preconditioned by its near field ({:.1f} MB), {:.3g} s per iteration, about 10 per "
+               "evaluation (docs/channel.md)\n",
+               c["shape"].get<std::string>(), c["radius"].get<double>(), c["length"].get<double>(),
+               c["wall_elements"].get<long>(), c["wall_nodes"].get<long>(), c["element_size"].get<double>(),
+               c["element_size_auto"].get<bool>() ? ", auto" : "", c["preconditioner_mb"].get<double>(),
+               c["seconds_per_wall_iteration"].get<double>());
+  }
   fmt::print("\n# run\n");
   const nlohmann::json& r = info["run"];
   fmt::print("back end        {} ({})\n", r["backend"].get<std::string>(), r["backend_reason"].get<std::string>());

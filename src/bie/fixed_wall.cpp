@@ -1,6 +1,8 @@
 #include "capsflow/core/bie/fixed_wall.hpp"
 
+#include <array>
 #include <chrono>
+#include <vector>
 #include <stdexcept>
 
 #include "capsflow/core/bie/quadrature.hpp"
@@ -27,17 +29,60 @@ FixedWall::FixedWall(const SurfaceMesh& wall, const Points& velocity, const Fixe
   weight_.resize(3 * n);
   for (Eigen::Index i = 0; i < n; ++i) weight_.segment<3>(3 * i).setConstant(area_[i]);
 
-  DoubleLayerOptions dopt;
-  static_cast<LayerOptions&>(dopt) = opt.layer;
-  dopt.reuse_identity_term = false;  // one set-up: nothing to reuse
-  DoubleLayer D(wall.triangles, n, dopt);
-  Points Du;
-  D.set_surface(wall.vertices, &velocity_, &Du);
-  rhs0_ = 0.5 * velocity_ - Du;
+  rhs0_ = Points::Zero(n, 3);
+  if (velocity_.cwiseAbs().maxCoeff() > 0) {  // a wall at rest (a channel's disturbance) has none
+    DoubleLayerOptions dopt;
+    static_cast<LayerOptions&>(dopt) = opt.layer;
+    dopt.reuse_identity_term = false;  // one set-up: nothing to reuse
+    DoubleLayer D(wall.triangles, n, dopt);
+    Points Du;
+    D.set_surface(wall.vertices, &velocity_, &Du);
+    rhs0_ = 0.5 * velocity_ - Du;
+  }
   traction_ = Points::Zero(n, 3);
+  if (opt.precondition) build_preconditioner();
+}
+
+void FixedWall::build_preconditioner() {
+  const Eigen::Index n = mesh_.num_nodes();
+  const Points& x = mesh_.vertices;
+  const Triangles& t = mesh_.triangles;
+  const NearFieldLists& lists = S_->near_field_lists();
+  std::vector<Eigen::Triplet<double>> entries;
+  auto add = [&](Eigen::Index i, int node, const Mat3& block) {
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        entries.emplace_back(static_cast<int>(3 * i + a), 3 * node + b, fmm::Stokeslet::scale() * block(a, b));
+  };
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (const int e : lists.touching(i)) {
+      int first = 0;  // the element written about node i
+      while (t(e, first) != i) ++first;
+      const int v1 = t(e, (first + 1) % 3), v2 = t(e, (first + 2) % 3);
+      const std::array<Mat3, 3> m = singular_element_integral(x.row(i).transpose(), x.row(v1).transpose(), x.row(v2).transpose());
+      add(i, static_cast<int>(i), m[0]), add(i, v1, m[1]), add(i, v2, m[2]);
+    }
+    for (const int e : lists.ring(i)) {
+      const std::array<Mat3, 3> m = refined_element_integral(x.row(i).transpose(), x.row(t(e, 0)).transpose(),
+                                                             x.row(t(e, 1)).transpose(), x.row(t(e, 2)).transpose(), 0);
+      for (int k = 0; k < 3; ++k) add(i, t(e, k), m[static_cast<std::size_t>(k)]);
+    }
+  }
+  near_.resize(3 * n, 3 * n);
+  near_.setFromTriplets(entries.begin(), entries.end());
+  near_.makeCompressed();
+  near_lu_.analyzePattern(near_);
+  near_lu_.factorize(near_);
+  preconditioned_ = near_lu_.info() == Eigen::Success;  // a singular near field: plain GMRES
 }
 
 FixedWall::~FixedWall() = default;
+
+double FixedWall::preconditioner_megabytes() const {
+  if (!preconditioned_) return 0;
+  const double nonzeros = static_cast<double>(near_.nonZeros() + near_lu_.nnzL() + near_lu_.nnzU());
+  return nonzeros * (sizeof(double) + sizeof(int)) / 1e6;
+}
 
 FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
   const auto start = std::chrono::steady_clock::now();
@@ -45,8 +90,14 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
   if (induced) b += *induced;
   const Eigen::Index n = mesh_.num_nodes();
   Points f(n, 3), Sf(n, 3);
+  Eigen::VectorXd pv;
   auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y, Eigen::VectorXd*, double) {
-    flat(f) = v;
+    if (preconditioned_) {
+      pv = near_lu_.solve(v);
+      flat(f) = pv;
+    } else {
+      flat(f) = v;
+    }
     S_->apply(mesh_.vertices, f, Sf);
     double nf = 0;
     for (Eigen::Index i = 0; i < n; ++i) nf += area_[i] * normal_.row(i).dot(f.row(i));
@@ -64,8 +115,9 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
     return out;
   }
   Eigen::VectorXd x = flat(traction_);
+  if (preconditioned_) x = near_ * x;  // the warm start in the preconditioned unknown y = M f
   const GmresResult r = gmres(apply, bv, x, weight_, scale, opt_.gmres);
-  flat(traction_) = x;
+  flat(traction_) = preconditioned_ ? Eigen::VectorXd(near_lu_.solve(x)) : x;
   out.iterations = r.iterations;
   out.residual = r.residual / scale;
   out.converged = r.converged;

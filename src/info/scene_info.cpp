@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "capsflow/core/bie/single_layer.hpp"
@@ -18,6 +19,7 @@
 #include "capsflow/core/mesh/topology.hpp"
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
+#include "capsflow/core/rhs/channel_dynamics.hpp"
 #include "capsflow/core/rhs/suspension_dynamics.hpp"
 #include "capsflow/core/scene/boundary_integral_options.hpp"
 #include "capsflow/core/stepping/heun.hpp"
@@ -78,6 +80,27 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   if (capsules > 1)
     info["capsules"] = {{"count", capsules}, {"elements", all.num_elements()}, {"nodes", all.num_nodes()},
                         {"alike", scene.capsules_alike()}};
+  std::optional<ChannelFlow> channel;
+  if (scene.channel.active()) {  // docs/channel.md §5: the wall as the run builds it, and what one GMRES iteration costs
+    channel = channel_flow_of(scene, mesh);
+    const ChannelMesh wall = make_channel_mesh(channel->geometry);
+    FixedWallOptions wo;
+    wo.layer = sl_options;
+    wo.layer.geometry = SurfaceGeometry::Flat;
+    const FixedWall fixed(wall.mesh, Points::Zero(wall.mesh.num_nodes(), 3), wo);
+    SingleLayer S(wall.mesh.triangles, wall.mesh.num_nodes(), wo.layer);
+    const Points ones = Points::Ones(wall.mesh.num_nodes(), 3);
+    Points u;
+    S.apply(wall.mesh.vertices, ones, u);  // set-up
+    Stopwatch clock;
+    S.apply(wall.mesh.vertices, ones, u);
+    info["channel"] = {{"shape", to_string(scene.channel.shape)}, {"radius", channel->geometry.radius},
+                       {"length", channel->geometry.length}, {"element_size", channel->geometry.element_size},
+                       {"element_size_auto", scene.channel.element_size_auto},
+                       {"wall_nodes", wall.mesh.num_nodes()}, {"wall_elements", wall.mesh.num_elements()},
+                       {"preconditioner_mb", fixed.preconditioner_megabytes()},
+                       {"seconds_per_wall_iteration", clock.seconds()}};
+  }
   run["backend"] = to_string(b);
   run["backend_reason"] = why;
   const FarFieldTolerance tol = far_field_tolerance(scene);
@@ -115,7 +138,8 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     // The run's right-hand side on the run's start: every capsule where the run places it.
     const Points& x0 = all.vertices;
     std::unique_ptr<CapsulesDynamics> rhs;
-    if (capsules == 1) rhs = std::make_unique<CapsuleDynamics>(scene.capsule_scene(0), mesh);
+    if (channel) rhs = std::make_unique<ChannelDynamics>(scene.capsule_scene(0), mesh, *channel);
+    else if (capsules == 1) rhs = std::make_unique<CapsuleDynamics>(scene.capsule_scene(0), mesh);
     else rhs = std::make_unique<SuspensionDynamics>(scene, placed, 0,
                                                     ContactRepulsion{scene.contact.repulsion_range, scene.contact.repulsion_strength});
     CapsulesDynamics& dyn = *rhs;
@@ -125,6 +149,8 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
     Stopwatch clock;
     dyn.evaluate(x0, v, {});
     seconds_per_eval = clock.seconds();
+    if (channel)  // the reference shape has no load, so the wall took no iteration; a run's take about 10 (docs/channel.md §4)
+      seconds_per_eval += 10 * info["channel"]["seconds_per_wall_iteration"].get<double>();
     if (const ViscosityRatioSolver* vr = dyn.viscosity_ratio_solver()) {
       // The repeated state needs no GMRES iteration; a run's evaluations take 1–3 (§4.8.3): count 2.
       const DoubleLayerDiagnostics dl = vr->double_layer().diagnostics();
@@ -191,7 +217,12 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   run["time_step"]["t_end"] = scene.time.t_end;
   // The peak memory (info/memory_estimate.hpp), for the counts of all capsules together.
   const MemoryEstimate memory = estimate_peak_memory(scene, MeshCounts{all.num_elements(), all.num_nodes(), all_edges});
-  run["memory_mb"] = memory.total_mb();
+  // A channel adds its wall: 1.5 × its preconditioner (the near field and its LU factors, plus the
+  // factorisation's work space) + 4 MB, fitted to the peak RSS of scenes/capsule_in_tube.toml for
+  // 693, 2 762 and 5 169 wall nodes (17, 101 and 215 MB above the capsule alone: within 8 %;
+  // docs/channel.md §5).
+  run["memory_mb"] =
+      memory.total_mb() + (channel ? 1.5 * info["channel"]["preconditioner_mb"].get<double>() + 4 : 0.0);
   run["memory_double_layer_mb"] = memory.double_layer_mb;
   info["run"] = run;
   return info;

@@ -16,8 +16,15 @@
 // The first-kind equation is singular: S[n] = 0 inside a closed surface (a uniform pressure moves
 // nothing), so the traction is defined up to a multiple of n. The solve takes the one with zero
 // mean normal traction: GMRES (gmres.hpp) on S[f] + n ⟨n, f⟩/|W|, the nodal-area inner product,
-// whose added rank-one term is 1 on n and leaves S untouched on the rest.
+// whose added rank-one term is 1 on n and leaves S untouched on the rest. Preconditioned on the
+// right by the wall's near field: M, the single layer of each node's touching and ring elements
+// alone (the same closed-form and 7-point integrals as the operator's), carries the operator's
+// grid-scale part — what makes a first-kind equation ill-conditioned as h → 0 — and is factored
+// once (sparse LU), so that GMRES sees S M⁻¹ (docs/channel.md §3.2: a third fewer iterations).
 #include <memory>
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 
 #include "capsflow/core/bie/double_layer.hpp"
 #include "capsflow/core/bie/gmres.hpp"
@@ -30,6 +37,7 @@ namespace capsflow {
 struct FixedWallOptions {
   SingleLayerOptions layer;  // the wall's single layer (and the double layer's back end and surface)
   GmresOptions gmres{1e-8, 60, 2000, 0};  // relative to ‖right-hand side‖ in the nodal-area norm
+  bool precondition = true;  // by the near field's sparse LU (above); false: plain GMRES
 };
 
 struct FixedWallSolve {
@@ -61,8 +69,13 @@ class FixedWall {
   const Points& velocity() const { return velocity_; }
   const Eigen::VectorXd& nodal_area() const { return area_; }
   const Points& nodal_normal() const { return normal_; }
+  bool preconditioned() const { return preconditioned_; }
+  // The preconditioner's memory: the near field's blocks and its LU factors, a double and an index
+  // per nonzero.
+  double preconditioner_megabytes() const;
 
  private:
+  void build_preconditioner();
   SurfaceMesh mesh_;
   Points velocity_;
   FixedWallOptions opt_;
@@ -72,6 +85,9 @@ class FixedWall {
   Eigen::VectorXd area_, weight_;  // nodal areas; per unknown (3 per node)
   Points normal_;     // unit area-weighted nodal normals
   double total_area_ = 0;
+  Eigen::SparseMatrix<double> near_;  // M, 3N × 3N
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> near_lu_;
+  bool preconditioned_ = false;
 };
 
 }  // namespace capsflow
