@@ -9,6 +9,7 @@
 
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/profiles.hpp"
+#include "capsflow/core/io/channel_wall_file.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
 #include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/io/manifest.hpp"
@@ -118,6 +119,7 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
     fields.emplace_back("E_shear", Esh);
   }
   out->write_step(t, x, fields);
+  if (channel) io::write_channel_wall(folder, channel->channel_wall().mesh(), channel->channel_wall().traction(), t);
   std::vector<io::PlaneProfile> planes;
   for (int k = 0; k < capsules(); ++k)
     for (io::PlaneProfile& p : profiles_of(capsule_mesh(x, k))) {

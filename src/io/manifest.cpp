@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdlib>
 
+#include "capsflow/core/io/channel_wall_file.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
 #include "capsflow/core/io/folder_lock.hpp"
 #include "capsflow/core/io/results_writer.hpp"
@@ -18,7 +19,7 @@ constexpr const char* kProbePrefix = ".capsflow-write-probe.";
 const std::vector<std::string>& output_manifest() {
   static const std::vector<std::string> names = {
       kRunH5, kRunXdmf, kTimeseriesCsv, kSummaryJson, kCheckpointFile,
-      previous_checkpoint_path(kCheckpointFile).string()};
+      previous_checkpoint_path(kCheckpointFile).string(), kChannelH5, kChannelXdmf};
   return names;
 }
 

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -120,6 +121,14 @@ TEST(ChannelRun, WritesTheCapsulesSpeedThroughTheChannelAndItsLabPosition) {
   EXPECT_NEAR(s.at("centroid")[0].get<double>() / (U * 0.2), 1, 0.02);
   EXPECT_EQ(s.at("channel").at("shape"), "tube");
   EXPECT_GT(s.at("channel").at("wall_nodes").get<long>(), 0);
+  // The wall for ParaView: its mesh and last traction, and an XDMF grid naming them.
+  const long wall_nodes = s.at("channel").at("wall_nodes").get<long>();
+  EXPECT_TRUE(fs::exists(dir / "channel.h5"));
+  std::ifstream xmf(dir / "channel.xmf");
+  const std::string text((std::istreambuf_iterator<char>(xmf)), std::istreambuf_iterator<char>());
+  for (const std::string& item : {std::string("channel.h5:/triangles"), std::string("channel.h5:/positions"),
+                                  std::string("channel.h5:/traction"), "Dimensions=\"" + std::to_string(wall_nodes) + " 3\""})
+    EXPECT_NE(text.find(item), std::string::npos) << item;
   fs::remove_all(dir);
 }
 

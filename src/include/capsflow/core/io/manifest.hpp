@@ -9,7 +9,8 @@
 
 namespace capsflow::io {
 
-// run.h5, run.xmf, timeseries.csv, summary.json, checkpoint.h5, checkpoint.prev.h5.
+// run.h5, run.xmf, timeseries.csv, summary.json, checkpoint.h5, checkpoint.prev.h5, and a
+// channel's channel.h5 and channel.xmf.
 const std::vector<std::string>& output_manifest();
 
 // A leftover of a write that was killed: `<manifest name>.tmp.<pid>` (atomic_file.hpp) or the
