@@ -85,7 +85,9 @@ TEST(OutputFolder, CapsflowNames) {
   EXPECT_FALSE(is_capsflow_output_name("notes.txt.tmp.17"));
   EXPECT_FALSE(is_capsflow_output_name("checkpoint.h5.txt"));
   EXPECT_FALSE(is_capsflow_output_name("my_run.h5"));
-  EXPECT_EQ(output_manifest().size(), 6u);
+  EXPECT_TRUE(is_capsflow_output_name("channel.h5"));   // a channel's wall (docs/channel.md §5)
+  EXPECT_TRUE(is_capsflow_output_name("channel.xmf"));
+  EXPECT_EQ(output_manifest().size(), 8u);
 }
 
 TEST(OutputFolder, PathUnderARegularFileGivesOneLineError) {
