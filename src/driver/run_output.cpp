@@ -9,6 +9,7 @@
 
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/profiles.hpp"
+#include "capsflow/core/geometry/rear_pole.hpp"
 #include "capsflow/core/io/channel_wall_file.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
 #include "capsflow/core/io/folder_lock.hpp"
@@ -139,9 +140,10 @@ void Simulation::Impl::write_output_at(double t, const Points& x, bool at_state)
     const CapsuleWatch& w = watch[0];
     row.insert(row.end(), {{"D_flow", w.last_plane_shape.D}, {"theta", w.last_plane_shape.theta * 180 / M_PI},
                            {"tank_treading", w.last_tank_treading}});
-    if (channel)  // the capsule's speed through the channel over V, its added pressure drop, its closest approach to the wall
+    if (channel)  // the capsule's speed over V, its added pressure drop, its rear's curvature, its closest approach to the wall
       row.insert(row.end(), {{"velocity_ratio", channel->axial_velocity() / channel->channel().mean_velocity},
-                             {"pressure_drop", channel->pressure_drop()}, {"wall_gap", channel->wall_gap()}});
+                             {"pressure_drop", channel->pressure_drop()},
+                             {"rear_curvature", rear_pole_curvature(x, ref.triangles)}, {"wall_gap", channel->wall_gap()}});
   } else {  // each capsule's columns prefixed "c<k>." (docs/several-capsules.md), then the run's
     const Vec3 common = volume_moments(x, ref.triangles).centroid;
     // The velocities at x, where this row evaluated them (the state's, or asked for by output.fields).

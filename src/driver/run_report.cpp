@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include "capsflow/core/geometry/measures.hpp"
+#include "capsflow/core/geometry/rear_pole.hpp"
 #include "capsflow/core/io/version.hpp"
 #include "simulation_impl.hpp"
 
@@ -179,6 +180,7 @@ nlohmann::json Simulation::Impl::summary() const {
     const double ratio = channel->axial_velocity() / c.mean_velocity;
     summary["velocity_ratio"] = ratio;
     summary["pressure_drop"] = channel->pressure_drop();
+    summary["rear_curvature"] = rear_pole_curvature(st.x, ref.triangles);
     summary["channel"] = {{"shape", to_string(scene.channel.shape)},
                           {"radius", c.geometry.radius},
                           {"length", c.geometry.length},

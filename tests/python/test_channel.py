@@ -57,7 +57,7 @@ def test_run_reports_the_capsules_speed_and_pressure_drop(capsflow_exe, tmp_path
     run = capsflow.read_run(tmp_path / "out")
     with open(tmp_path / "out" / "timeseries.csv", newline="", encoding="utf-8") as f:
         rows = list(csv.DictReader(f))
-    for name in ("velocity_ratio", "pressure_drop", "wall_gap"):
+    for name in ("velocity_ratio", "pressure_drop", "rear_curvature", "wall_gap"):
         assert np.array_equal(run.timeseries[name], np.array([float(r[name]) for r in rows])), name
     summary = json.loads((tmp_path / "out" / "summary.json").read_text(encoding="utf-8"))
     assert run.summary["velocity_ratio"] == summary["velocity_ratio"] == summary["channel"]["velocity_ratio"]

@@ -119,6 +119,10 @@ TEST(ChannelRun, WritesTheCapsulesSpeedThroughTheChannelAndItsLabPosition) {
   EXPECT_LT(U, 2 * (1 - 2.0 / (5 * 1.6 * 1.6)));
   // The lab centroid travels with the capsule: U t to within U's change over the run (2 %).
   EXPECT_NEAR(s.at("centroid")[0].get<double>() / (U * 0.2), 1, 0.02);
+  // Barely deformed, its rear is convex: positive curvature (on 80 elements the fit's patch of 2.5
+  // edges spans most of the rear half, where a sphere's ρ⁴ term adds to it: 1.88 measured).
+  EXPECT_GT(s.at("rear_curvature").get<double>(), 0.5);
+  EXPECT_LT(s.at("rear_curvature").get<double>(), 3.0);
   EXPECT_EQ(s.at("channel").at("shape"), "tube");
   EXPECT_GT(s.at("channel").at("wall_nodes").get<long>(), 0);
   // The wall for ParaView: its mesh and last traction, and an XDMF grid naming them.
