@@ -47,3 +47,14 @@ def test_ca_s_scan(tmp_path):
     for c, d in zip(ca, d12):
         assert capsflow.read_run(tmp_path / "runs" / f"ca_s={c:g}").summary["D12"] == pytest.approx(d, abs=5e-5)
     assert png.stat().st_size > 10_000  # a figure, not an empty file
+
+
+def test_channel_profile(tmp_path):
+    png = tmp_path / "profile.png"
+    out = run_example("channel_profile.py", "--level", 2, "--t-end", 0.3, "--out", tmp_path / "run", "--plot", png).stdout
+    words = out.split()
+    # the capsule in a tube at confinement 0.9 is slower than the centreline flow (2V) and faster than the mean
+    assert 1.0 < float(words[words.index("U/V") + 1]) < 2.0
+    assert int(words[words.index("outputs") + 1]) == 4  # t = 0, 0.1, 0.2, 0.3
+    assert capsflow.read_run(tmp_path / "run").summary["channel"]["shape"] == "tube"
+    assert png.stat().st_size > 10_000  # a figure, not an empty file
