@@ -29,8 +29,14 @@ FixedWall::FixedWall(const SurfaceMesh& wall, const Points& velocity, const Fixe
   weight_.resize(3 * n);
   for (Eigen::Index i = 0; i < n; ++i) weight_.segment<3>(3 * i).setConstant(area_[i]);
 
+  for (Eigen::Index e = 0; e < wall.num_elements(); ++e)
+    for (int k = 0; k < 3; ++k)
+      if (velocity_.row(wall.triangles(e, k)).squaredNorm() > 0) {
+        moving_.push_back(e);
+        break;
+      }
   rhs0_ = Points::Zero(n, 3);
-  if (velocity_.cwiseAbs().maxCoeff() > 0) {  // a wall at rest (a channel's disturbance) has none
+  if (!moving_.empty()) {  // a wall at rest (a channel's disturbance) has none
     DoubleLayerOptions dopt;
     static_cast<LayerOptions&>(dopt) = opt.layer;
     dopt.reuse_identity_term = false;  // one set-up: nothing to reuse
@@ -127,18 +133,14 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
 
 void FixedWall::velocity_at(const Points& targets, Points& u, OffSurfaceReport* report) {
   evaluate_off_surface(*S_, mesh_.vertices, traction_, targets, u, report);
-  std::vector<Eigen::Index> moving;  // elements with a non-zero wall velocity at a vertex
+  if (moving_.empty()) return;
   const Triangles& t = mesh_.triangles;
-  for (Eigen::Index e = 0; e < t.rows(); ++e)
-    if (velocity_.row(t(e, 0)).squaredNorm() + velocity_.row(t(e, 1)).squaredNorm() +
-            velocity_.row(t(e, 2)).squaredNorm() > 0)
-      moving.push_back(e);
   const Points& x = mesh_.vertices;
 #pragma omp parallel for schedule(dynamic, 8) num_threads(layer_threads(opt_.layer))
   for (Eigen::Index k = 0; k < targets.rows(); ++k) {
     const Vec3 p = targets.row(k).transpose();
     Vec3 d = Vec3::Zero();
-    for (const Eigen::Index e : moving) {
+    for (const Eigen::Index e : moving_) {
       const QuadraticTriangle T = QuadraticTriangle::flat(x.row(t(e, 0)).transpose(), x.row(t(e, 1)).transpose(),
                                                           x.row(t(e, 2)).transpose());
       d += adaptive_element_double_layer(p, T, velocity_.row(t(e, 0)).transpose(), velocity_.row(t(e, 1)).transpose(),

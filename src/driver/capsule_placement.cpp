@@ -62,10 +62,8 @@ ChannelFlow channel_flow_of(const Scene& scene, const SurfaceMesh& capsule) {
   if (h > c.radius)
     throw SceneError(fmt::format("channel.element_size: {:.4g} is larger than channel.radius = {:.4g}", h, c.radius));
   double reach = 0, x_min = capsule.vertices.col(0).minCoeff(), x_max = capsule.vertices.col(0).maxCoeff();
-  for (Eigen::Index i = 0; i < capsule.num_nodes(); ++i) {
-    const double y = capsule.vertices(i, 1), z = capsule.vertices(i, 2);
-    reach = std::max(reach, out.geometry.shape == ChannelShape::Tube ? std::hypot(y, z) : std::max(std::abs(y), std::abs(z)));
-  }
+  for (Eigen::Index i = 0; i < capsule.num_nodes(); ++i)
+    reach = std::max(reach, distance_from_axis(out.geometry, capsule.vertices(i, 1), capsule.vertices(i, 2)));
   if (reach > c.radius - 0.1 * h)
     throw SceneError(fmt::format("channel.radius: {:.4g} is too small: the capsule reaches {:.4g} from the axis, and must "
                                  "start at least a tenth of a wall element ({:.3g}) inside the wall",

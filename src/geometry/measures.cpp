@@ -9,13 +9,12 @@
 namespace capsflow {
 
 namespace {
-inline Vec3 vertex(const SurfaceMesh& m, int i) { return m.vertices.row(i).transpose(); }
 // Twice the area vector (x1 − x0) × (x2 − x0) of element e.
-inline Vec3 area_vector2(const SurfaceMesh& m, Eigen::Index e) {
-  const Vec3 a = vertex(m, m.triangles(e, 0)), b = vertex(m, m.triangles(e, 1)),
-             c = vertex(m, m.triangles(e, 2));
+inline Vec3 area_vector2(const Points& x, const Triangles& t, Eigen::Index e) {
+  const Vec3 a = x.row(t(e, 0)).transpose(), b = x.row(t(e, 1)).transpose(), c = x.row(t(e, 2)).transpose();
   return (b - a).cross(c - a);
 }
+inline Vec3 area_vector2(const SurfaceMesh& m, Eigen::Index e) { return area_vector2(m.vertices, m.triangles, e); }
 }  // namespace
 
 Eigen::VectorXd element_areas(const SurfaceMesh& mesh) {
@@ -34,11 +33,14 @@ Points nodal_normals(const SurfaceMesh& mesh) {
   return shell::area_weighted_normals(mesh.vertices, mesh.triangles);  // the wall's directors' formula
 }
 
-Eigen::VectorXd nodal_areas(const SurfaceMesh& mesh) {
-  Eigen::VectorXd a = Eigen::VectorXd::Zero(mesh.num_nodes());
-  const Eigen::VectorXd ae = element_areas(mesh);
-  for (Eigen::Index e = 0; e < mesh.num_elements(); ++e)
-    for (int k = 0; k < 3; ++k) a[mesh.triangles(e, k)] += ae[e] / 3.0;
+Eigen::VectorXd nodal_areas(const SurfaceMesh& mesh) { return nodal_areas(mesh.vertices, mesh.triangles); }
+
+Eigen::VectorXd nodal_areas(const Points& x, const Triangles& triangles) {
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(x.rows());
+  for (Eigen::Index e = 0; e < triangles.rows(); ++e) {
+    const double ae = 0.5 * area_vector2(x, triangles, e).norm();
+    for (int k = 0; k < 3; ++k) a[triangles(e, k)] += ae / 3.0;
+  }
   return a;
 }
 

@@ -121,6 +121,10 @@ double channel_cross_section_area(const ChannelGeometry& g) {
   return g.shape == ChannelShape::Tube ? kPi * g.radius * g.radius : 4 * g.radius * g.radius;
 }
 
+double distance_from_axis(const ChannelGeometry& g, double y, double z) {
+  return g.shape == ChannelShape::Tube ? std::hypot(y, z) : std::max(std::abs(y), std::abs(z));
+}
+
 ChannelMesh make_channel_mesh(const ChannelGeometry& g) {
   auto refuse = [](const std::string& what) { throw std::invalid_argument("channel: " + what); };
   if (!(g.radius > 0)) refuse("radius must be positive");

@@ -34,12 +34,9 @@ ChannelDynamics::~ChannelDynamics() = default;
 
 double ChannelDynamics::poiseuille(const Vec3& p) const {
   const ChannelGeometry& g = channel_.geometry;
-  if (g.shape == ChannelShape::Tube) {
-    const double r = std::hypot(p.y(), p.z());
-    return r < g.radius ? tube_poiseuille_velocity(r, g.radius, channel_.mean_velocity) : 0.0;
-  }
-  if (std::abs(p.y()) >= g.radius || std::abs(p.z()) >= g.radius) return 0.0;
-  return duct_poiseuille_velocity(p.y(), p.z(), g.radius, channel_.mean_velocity);
+  if (distance_from_axis(g, p.y(), p.z()) >= g.radius) return 0.0;
+  return g.shape == ChannelShape::Tube ? tube_poiseuille_velocity(std::hypot(p.y(), p.z()), g.radius, channel_.mean_velocity)
+                                       : duct_poiseuille_velocity(p.y(), p.z(), g.radius, channel_.mean_velocity);
 }
 
 void ChannelDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
@@ -87,14 +84,12 @@ void ChannelDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
                                     near_wall.too_close, OffSurfaceReport::min_ratio));
 
   v = from_wall_ - u_;
-  const Eigen::VectorXd area = nodal_areas(SurfaceMesh{x, tri_});
+  const Eigen::VectorXd area = nodal_areas(x, tri_);
   double work = 0;  // ∫ q·u_P dS, the load P1 and u_P at the nodes (lumped: O(h²) as the rest)
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     const Vec3 p = x.row(i).transpose();
-    const ChannelGeometry& g = channel_.geometry;
-    const bool inside = g.shape == ChannelShape::Tube ? std::hypot(p.y(), p.z()) < g.radius
-                                                      : std::max(std::abs(p.y()), std::abs(p.z())) < g.radius;
-    if (!inside) throw SolverFailure(fmt::format("capsule node {} left the channel's cross-section", i));
+    if (distance_from_axis(channel_.geometry, p.y(), p.z()) >= channel_.geometry.radius)
+      throw SolverFailure(fmt::format("capsule node {} left the channel's cross-section", i));
     const double up = poiseuille(p);
     v(i, 0) += up;
     work += area[i] * q(i, 0) * up;
@@ -113,15 +108,18 @@ void ChannelDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
 }
 
 double ChannelDynamics::pressure_drop_from_caps() const {
-  const Points& f = channel_wall_->traction();
-  const Points& n = channel_wall_->nodal_normal();
-  const Eigen::VectorXd& a = channel_wall_->nodal_area();
-  const ChannelGeometry& g = channel_.geometry;
+  return capsflow::pressure_drop_from_caps(mesh_, channel_wall_->traction());
+}
+
+double pressure_drop_from_caps(const ChannelMesh& channel, const Points& traction) {
+  const Points n = nodal_normals(channel.mesh);
+  const Eigen::VectorXd a = nodal_areas(channel.mesh);
+  const ChannelGeometry& g = channel.geometry;
+  const Points& f = traction;
   double p_in = 0, p_out = 0, a_in = 0, a_out = 0;
   for (Eigen::Index i = 0; i < f.rows(); ++i) {
-    const ChannelRegion region = mesh_.node_region[static_cast<std::size_t>(i)];
-    const double y = mesh_.mesh.vertices(i, 1), z = mesh_.mesh.vertices(i, 2);
-    const double from_axis = g.shape == ChannelShape::Tube ? std::hypot(y, z) : std::max(std::abs(y), std::abs(z));
+    const ChannelRegion region = channel.node_region[static_cast<std::size_t>(i)];
+    const double from_axis = distance_from_axis(g, channel.mesh.vertices(i, 1), channel.mesh.vertices(i, 2));
     if (region == ChannelRegion::Side || from_axis > g.radius - 1.5 * g.element_size) continue;
     const double p = -f.row(i).dot(n.row(i));
     if (region == ChannelRegion::Inlet)

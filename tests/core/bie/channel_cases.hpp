@@ -15,8 +15,9 @@
 #include "capsflow/core/bie/quadrature.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/geometry/surface_set.hpp"
-#include "capsflow/core/mesh/generation.hpp"
 #include "capsflow/core/mesh/channel.hpp"
+#include "capsflow/core/mesh/generation.hpp"
+#include "capsflow/core/rhs/channel_dynamics.hpp"
 #include "capsflow/core/theory/poiseuille.hpp"
 #include "capsflow/fmm/stokeslet.hpp"
 
@@ -101,21 +102,9 @@ inline CaseResult inside_point_force(ChannelShape shape, double h) {
     induced.row(i) = -point_force_flow(c.mesh.vertices.row(i).transpose(), xs, F).transpose();
   FixedWall wall(c.mesh, Points::Zero(n, 3));
   const FixedWallSolve s = wall.solve(&induced);
-  double p_in = 0, p_out = 0, a_in = 0, a_out = 0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const auto region = c.node_region[static_cast<std::size_t>(i)];
-    const double y = c.mesh.vertices(i, 1), z = c.mesh.vertices(i, 2);
-    const double from_axis = shape == ChannelShape::Tube ? std::hypot(y, z) : std::max(std::abs(y), std::abs(z));
-    if (region == ChannelRegion::Side || from_axis > 1 - 1.5 * h) continue;
-    const double a = wall.nodal_area()[i], p = -wall.traction().row(i).dot(wall.nodal_normal().row(i));
-    if (region == ChannelRegion::Inlet)
-      p_in += p * a, a_in += a;
-    else
-      p_out += p * a, a_out += a;
-  }
   CaseResult r;
   r.iterations = s.iterations, r.converged = s.converged, r.nodes = static_cast<long>(n), r.seconds = s.seconds;
-  r.value = p_in / a_in - p_out / a_out;
+  r.value = pressure_drop_from_caps(c, wall.traction());
   r.exact = -F.x() * poiseuille(g, xs.y(), xs.z()) / channel_cross_section_area(g);
   r.error = std::abs(r.value - r.exact) / std::abs(r.exact);
   return r;
@@ -231,20 +220,11 @@ inline SphereResult free_sphere_on_axis(double ratio, int level, double wall_siz
   out.sphere_nodes = static_cast<long>(ns), out.wall_nodes = static_cast<long>(nw);
   out.velocity_ratio = v(3 * n);
   // Δp⁺ from the caps (as inside_point_force) and from the reciprocal theorem, Q Δp⁺ = −∫ φ·u_P dS.
-  double p_in = 0, p_out = 0, a_in = 0, a_out = 0, work = 0;
+  double work = 0;
   for (Eigen::Index i = 0; i < ns; ++i)
     work += area[i] * v(3 * i) * tube_poiseuille_velocity(std::hypot(x(i, 1), x(i, 2)), R, 1.0);
-  for (Eigen::Index k = 0; k < nw; ++k) {
-    const Eigen::Index i = ns + k;
-    const auto region = c.node_region[static_cast<std::size_t>(k)];
-    if (region == ChannelRegion::Side || std::hypot(x(i, 1), x(i, 2)) > R - 1.5 * g.element_size) continue;
-    const double p = -Vec3(v.segment<3>(3 * i)).dot(normal.row(i).transpose());
-    if (region == ChannelRegion::Inlet)
-      p_in += p * area[i], a_in += area[i];
-    else
-      p_out += p * area[i], a_out += area[i];
-  }
-  out.pressure_drop_caps = (p_in / a_in - p_out / a_out) * R;
+  const Points wall_traction = Points::Map(v.data() + 3 * ns, nw, 3);
+  out.pressure_drop_caps = pressure_drop_from_caps(c, wall_traction) * R;
   out.pressure_drop_reciprocal = -work / channel_cross_section_area(g) * R;
   return out;
 }

@@ -11,8 +11,6 @@
 namespace capsflow {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // ∫∫ f over [−W, W]² by Gauss–Legendre (n points per direction).
 template <class F>
 double square_integral(double W, int n, const F& f) {
@@ -79,7 +77,6 @@ TEST(Poiseuille, DuctWallShearBalancesThePressureGradient) {
   EXPECT_NEAR(slope, duct_poiseuille_wall_shear(y, W, V), 1e-4 * slope);
   // Zero at the corner (to the truncation of the series at n = 2·10⁶: 1e-6 of G W).
   EXPECT_NEAR(duct_poiseuille_wall_shear(W, W, V), 0, 1e-6 * G * W);
-  (void)kPi;
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 // grid-scale part — what makes a first-kind equation ill-conditioned as h → 0 — and is factored
 // once (sparse LU), so that GMRES sees S M⁻¹ (docs/channel.md §3.2: a third fewer iterations).
 #include <memory>
+#include <vector>
 
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
@@ -78,6 +79,7 @@ class FixedWall {
   void build_preconditioner();
   SurfaceMesh mesh_;
   Points velocity_;
+  std::vector<Eigen::Index> moving_;  // elements with a non-zero wall velocity at a vertex
   FixedWallOptions opt_;
   std::unique_ptr<SingleLayer> S_;
   Points rhs0_;       // ½ u_w − D_h[u_w]

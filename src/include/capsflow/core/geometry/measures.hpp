@@ -15,6 +15,7 @@ Points element_normals(const SurfaceMesh& mesh);
 Points nodal_normals(const SurfaceMesh& mesh);
 // One third of the area of the elements around each node (row sums of the mass matrix).
 Eigen::VectorXd nodal_areas(const SurfaceMesh& mesh);
+Eigen::VectorXd nodal_areas(const Points& x, const Triangles& triangles);  // the same, without a copy of x
 
 double surface_area(const SurfaceMesh& mesh);
 double enclosed_volume(const SurfaceMesh& mesh);

@@ -39,7 +39,10 @@ struct ChannelMesh {
 // not positive, or an element size above the radius (fewer than 6 elements around).
 ChannelMesh make_channel_mesh(const ChannelGeometry& g);
 
-// The cross-section's area (πR² or 4W²) and wetted perimeter (2πR or 8W) of the exact shape.
+// The cross-section's area (πR² or 4W²) of the exact shape.
 double channel_cross_section_area(const ChannelGeometry& g);
+// How far (y, z) lies from the axis in the cross-section's own measure — √(y² + z²) in a tube,
+// max(|y|, |z|) in a square duct —, so that the wall is where it equals the radius.
+double distance_from_axis(const ChannelGeometry& g, double y, double z);
 
 }  // namespace capsflow

@@ -75,9 +75,8 @@ class ChannelDynamics final : public CapsulesDynamics {
   double wall_gap() const { return wall_gap_; }
   // The additional pressure drop Δp⁺ the capsule causes (in μV/ℓ), of the last evaluation, by the
   // reciprocal theorem with Poiseuille's flow (docs/channel.md §4): Q Δp⁺ = ∫_C q·u_P dS, Q the
-  // flux; and the same read from the wall's traction, the difference of the caps' mean pressure
-  // −f·n over their nodes more than 1.5 wall elements from the rim — a check through the wall's
-  // solve, with the caps' O(h) error.
+  // flux; and the same read from the wall's traction (the free pressure_drop_from_caps below) — a
+  // check through the wall's solve, with the caps' O(h) error.
   double pressure_drop() const { return pressure_drop_; }
   double pressure_drop_from_caps() const;
 
@@ -96,5 +95,10 @@ class ChannelDynamics final : public CapsulesDynamics {
   PhaseTimes times_;
   RhsCounters counters_;
 };
+
+// A channel's added pressure drop read from its wall's traction (f = σ·n at the wall's nodes): the
+// difference of the caps' mean pressure −f·n over their nodes more than 1.5 wall elements from the
+// rim, where the P1 traction need not turn with the normal (docs/channel.md §3.3).
+double pressure_drop_from_caps(const ChannelMesh& channel, const Points& traction);
 
 }  // namespace capsflow
