@@ -1,5 +1,6 @@
 #include "capsflow/core/rhs/wall_factory.hpp"
 
+#include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/shell/gsmb_wall.hpp"
 
 namespace capsflow {
@@ -11,14 +12,25 @@ shell::MembraneLaw scene_law(const Scene& s) {
   return shell::make_law(s.wall.law, 1.0 / s.flow.ca_s, s.wall.poisson, parameter);
 }
 
-std::unique_ptr<shell::Wall> make_wall(const Scene& s, const SurfaceMesh& ref) {
+Points stress_free_nodes(const SurfaceMesh& initial, double prestress) {
+  if (prestress == 0) return initial.vertices;
+  const Vec3 c = volume_moments(initial).centroid;
+  Points x = initial.vertices;
+  x.rowwise() -= c.transpose();
+  x /= 1 + prestress;
+  x.rowwise() += c.transpose();
+  return x;
+}
+
+std::unique_ptr<shell::Wall> make_wall(const Scene& s, const SurfaceMesh& initial) {
   const shell::MembraneLaw law = scene_law(s);
-  if (s.wall.model == WallModel::Membrane) return std::make_unique<shell::MembraneWall>(ref.vertices, ref.triangles, law);
+  const Points X = stress_free_nodes(initial, s.wall.prestress);
+  if (s.wall.model == WallModel::Membrane) return std::make_unique<shell::MembraneWall>(X, initial.triangles, law);
   shell::GsmbOptions opt;
   opt.thickness = s.wall.thickness;
   opt.poisson = s.wall.poisson;
   opt.max_newton = s.wall.max_newton;
-  return std::make_unique<shell::GsmbWall>(ref.vertices, ref.triangles, law, opt);
+  return std::make_unique<shell::GsmbWall>(X, initial.triangles, law, opt);
 }
 
 }  // namespace capsflow

@@ -204,7 +204,13 @@ const Section<WallSpec>& wall_keys() {
                "GSMB: iteration cap of the rotation Newton solve (usually 1–4 are used; up to 47 measured where a fold "
                "makes the rotation equilibrium a saddle, `docs/shell.md` §2.8); a solve that does not converge is retried "
                "once from the nodal normals; then, under error control, the step is tried again a quarter as long (three "
-               "times at most), and otherwise the run stops with `solver_failure`")}};
+               "times at most), and otherwise the run stops with `solver_failure`"),
+       number("prestress", &WallSpec::prestress, 0.0,
+              closed(0.0, 0.5).because("the initial stretch 1 + α_p, with room for the flow's, within the stretches 0.7–2.1 "
+                                       "at which the laws are tested"),
+              "pre-inflation α_p: the wall's stress-free shape is the initial one shrunk by 1 + α_p about its centroid, so "
+              "the capsule starts inflated and under tension (as in Lac, Morel & Barthès-Biesel 2007; `docs/shell.md` "
+              "§2.10); any model, law and flow; 0: the initial shape is stress-free")}};
   return s;
 }
 
