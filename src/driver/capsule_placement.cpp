@@ -51,7 +51,9 @@ void check_capsules_apart(const Scene& scene, const SurfaceSet& set) {
 ChannelFlow channel_flow_of(const Scene& scene, const SurfaceMesh& capsule) {
   const ChannelSpec& c = scene.channel;
   ChannelFlow out;
-  out.geometry.shape = c.shape == ChannelKind::Tube ? ChannelShape::Tube : ChannelShape::SquareDuct;
+  out.geometry.shape = c.shape == ChannelKind::Tube         ? ChannelShape::Tube
+                       : c.shape == ChannelKind::SquareDuct ? ChannelShape::SquareDuct
+                                                            : ChannelShape::ConstrictedDuct;
   out.geometry.radius = c.radius;
   out.geometry.length = c.length;
   const double edge = mesh_stats(capsule).edge_mean;
@@ -73,6 +75,22 @@ ChannelFlow channel_flow_of(const Scene& scene, const SurfaceMesh& capsule) {
     throw SceneError(fmt::format("channel.length: {:.4g} is too short: the capsule spans x1 in [{:.3g}, {:.3g}] and its "
                                  "disturbance needs 2 radii to each cap: at least {:.4g}",
                                  c.length, x_min, x_max, needed));
+  if (out.geometry.shape != ChannelShape::ConstrictedDuct) return out;
+  ChannelGeometry& g = out.geometry;
+  g.constriction_height = c.constriction_height * c.radius;
+  g.constriction_width = c.constriction_width * c.radius;
+  g.constriction_length = c.constriction_length * c.radius;
+  g.constriction_center = c.constriction_center * c.radius;
+  g.constriction_taper = c.constriction_taper_auto ? h : c.constriction_taper * c.radius;
+  const double start = g.constriction_center - 0.5 * g.constriction_length - g.constriction_taper;
+  const double end = g.constriction_center + 0.5 * g.constriction_length + g.constriction_taper;
+  if (start < -0.5 * c.length + 2 * c.radius || end > 0.5 * c.length - 2 * c.radius)
+    throw SceneError(fmt::format("channel.constriction_center: the constriction and its tapers span x1 in [{:.3g}, {:.3g}], "
+                                 "which must end 2 radii ({:.3g}) from each cap at x1 = ±{:.3g} (its disturbance decays "
+                                 "there)", start, end, 2 * c.radius, 0.5 * c.length));
+  if (x_max > start - 0.1 * h)
+    throw SceneError(fmt::format("channel.constriction_center: the capsule reaches x1 = {:.3g}, and must start upstream of "
+                                 "the constriction, which begins at x1 = {:.3g}", x_max, start));
   return out;
 }
 

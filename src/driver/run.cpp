@@ -161,16 +161,17 @@ void Simulation::Impl::advance_centroid(double t_step_start) {
   st.centroid_frame = volume_moments(st.x, ref.triangles).centroid;
   st.centroid_lab = advance_lab_centroid(scene.flow.gradient, st.t - t_step_start, centroid_lab_prev,
                                          st.centroid_frame - centroid_frame_prev);
-  // In a channel the frame moves with the capsule along x1 (rhs/channel_dynamics.hpp): the step's
-  // last evaluation's axial velocity carries the lab centroid (first order in the step where U changes).
-  if (channel) st.centroid_lab.x() += channel->axial_velocity() * (st.t - t_step_start);
+  // In a straight channel the frame moves with the capsule along x1 (rhs/channel_dynamics.hpp): the
+  // step's last evaluation's axial velocity carries the lab centroid (first order in the step where U
+  // changes). A constriction's frame is the lab's.
+  if (comoving_channel()) st.centroid_lab.x() += channel->axial_velocity() * (st.t - t_step_start);
 }
 
 Vec3 Simulation::Impl::lab_centroid_at(double t, const Points& x) const {
   if (t == st.t) return st.centroid_lab;
   Vec3 c = advance_lab_centroid(scene.flow.gradient, t - centroid_step_start, centroid_lab_prev,
                                 volume_moments(x, ref.triangles).centroid - centroid_frame_prev);
-  if (channel) c.x() += channel->axial_velocity() * (t - centroid_step_start);
+  if (comoving_channel()) c.x() += channel->axial_velocity() * (t - centroid_step_start);
   return c;
 }
 

@@ -165,6 +165,8 @@ struct Simulation::Impl {
   std::unique_ptr<CapsulesDynamics> dyn;   // the right-hand side: CapsuleDynamics, or SuspensionDynamics
   SuspensionDynamics* suspension = nullptr;  // dyn, when there are several capsules
   ChannelDynamics* channel = nullptr;        // dyn, in a channel
+  // A straight channel's frame moves with the capsule (a constriction's is the lab's).
+  bool comoving_channel() const { return channel && channel->channel().geometry.straight(); }
   TimePlan plan;                           // how the run is stepped (stepping/time_plan.hpp)
   bool plan_from_checkpoint = false;       // a restart kept its checkpoint's plan
   std::unique_ptr<TimeStepper> stepper;    // the plan's scheme

@@ -115,6 +115,28 @@ void duct_cap(std::vector<Vec3>& nodes, std::vector<Eigen::Vector3i>& tri_out, c
     }
 }
 
+// The side's stations along x, about `spacing` apart: uniform from inlet to outlet, or in a
+// constriction uniform on each piece (wide, taper, narrow, taper, wide), a taper cut by its
+// slant length so that its elements stay about `spacing` wide as the wall runs inward.
+std::vector<double> station_positions(const ChannelGeometry& g, double spacing) {
+  std::vector<double> breaks{-0.5 * g.length, 0.5 * g.length};
+  if (!g.straight()) {
+    const double c = g.constriction_center, half = 0.5 * g.constriction_length, T = g.constriction_taper;
+    breaks = {-0.5 * g.length, c - half - T, c - half, c + half, c + half + T, 0.5 * g.length};
+  }
+  const double drop = g.straight() ? 0.0 : g.radius - std::min(g.constriction_height, g.constriction_width);
+  std::vector<double> xs{breaks.front()};
+  for (std::size_t k = 0; k + 1 < breaks.size(); ++k) {
+    const double a = breaks[k], b = breaks[k + 1];
+    if (b <= a) continue;  // a constriction of zero length
+    const bool taper = !g.straight() && (k == 1 || k == 3);
+    const double run = taper ? std::hypot(b - a, drop) : b - a;
+    const int pieces = std::max(1, static_cast<int>(std::lround(run / spacing)));
+    for (int j = 1; j <= pieces; ++j) xs.push_back(j == pieces ? b : a + (b - a) * j / pieces);
+  }
+  return xs;
+}
+
 }  // namespace
 
 double channel_cross_section_area(const ChannelGeometry& g) {
@@ -125,32 +147,67 @@ double distance_from_axis(const ChannelGeometry& g, double y, double z) {
   return g.shape == ChannelShape::Tube ? std::hypot(y, z) : std::max(std::abs(y), std::abs(z));
 }
 
+Eigen::Vector2d channel_half_sizes(const ChannelGeometry& g, double x) {
+  const Eigen::Vector2d wide(g.radius, g.radius);
+  if (g.straight()) return wide;
+  const Eigen::Vector2d narrow(g.constriction_height, g.constriction_width);
+  const double from_middle = std::abs(x - g.constriction_center) - 0.5 * g.constriction_length;
+  if (from_middle <= 0) return narrow;
+  if (from_middle >= g.constriction_taper) return wide;
+  return narrow + (wide - narrow) * (from_middle / g.constriction_taper);
+}
+
+double relative_distance_from_axis(const ChannelGeometry& g, const Vec3& p) {
+  if (g.shape == ChannelShape::Tube) return std::hypot(p.y(), p.z()) / g.radius;
+  const Eigen::Vector2d h = channel_half_sizes(g, p.x());
+  return std::max(std::abs(p.y()) / h.x(), std::abs(p.z()) / h.y());
+}
+
 ChannelMesh make_channel_mesh(const ChannelGeometry& g) {
   auto refuse = [](const std::string& what) { throw std::invalid_argument("channel: " + what); };
   if (!(g.radius > 0)) refuse("radius must be positive");
   if (!(g.length > 0)) refuse("length must be positive");
   if (!(g.element_size > 0)) refuse("element size must be positive");
   if (g.element_size > g.radius) refuse("element size above the radius (fewer than 6 elements around)");
+  if (!g.straight()) {
+    if (!(g.constriction_height > 0 && g.constriction_height <= g.radius)) refuse("constriction height not in (0, radius]");
+    if (!(g.constriction_width > 0 && g.constriction_width <= g.radius)) refuse("constriction width not in (0, radius]");
+    if (!(g.constriction_length >= 0)) refuse("constriction length must not be negative");
+    if (!(g.constriction_taper > 0)) refuse("constriction taper must be positive");
+    const double reach = 0.5 * g.constriction_length + g.constriction_taper;
+    if (std::abs(g.constriction_center) + reach >= 0.5 * g.length) refuse("the constriction and its tapers reach a cap");
+  }
 
   int per_side = 0;
   const std::vector<Eigen::Vector2d> ring = cross_section_ring(g, per_side);
   const int n = static_cast<int>(ring.size());
   double perimeter = 0;
   for (int k = 0; k < n; ++k) perimeter += (ring[static_cast<std::size_t>((k + 1) % n)] - ring[static_cast<std::size_t>(k)]).norm();
-  const int stations = std::max(1, static_cast<int>(std::lround(g.length / (perimeter / n))));
+  const std::vector<double> xs = station_positions(g, perimeter / n);
+  const int stations = static_cast<int>(xs.size()) - 1;
 
   std::vector<Vec3> nodes;
   std::vector<Eigen::Vector3i> tri;
-  for (int j = 0; j <= stations; ++j) {
-    const double xj = -0.5 * g.length + g.length * j / stations;
-    for (const auto& p : ring) nodes.emplace_back(xj, p.x(), p.y());
+  for (const double xj : xs) {
+    const Eigen::Vector2d scale = channel_half_sizes(g, xj) / g.radius;
+    for (const auto& p : ring) nodes.emplace_back(xj, scale.x() * p.x(), scale.y() * p.y());
   }
   auto side = [n](int j, int k) { return j * n + (k % n); };
+  auto distance = [&nodes](int a, int b) { return (nodes[static_cast<std::size_t>(a)] - nodes[static_cast<std::size_t>(b)]).norm(); };
   // (j, k) → (j, k+1) runs along the ring (e_θ), (j, k) → (j+1, k) along x: e_θ × e_x points out.
+  // Each quad is split along its diagonal (j, k+1)–(j+1, k), unless the other is shorter: a taper's
+  // quads are sheared (the ring shrinks from one station to the next), and the long diagonal would
+  // make slivers.
   for (int j = 0; j < stations; ++j)
     for (int k = 0; k < n; ++k) {
-      tri.emplace_back(side(j, k), side(j, k + 1), side(j + 1, k));
-      tri.emplace_back(side(j, k + 1), side(j + 1, k + 1), side(j + 1, k));
+      const int a = side(j, k), b = side(j, k + 1), c = side(j + 1, k), d = side(j + 1, k + 1);
+      if (distance(a, d) < (1 - 1e-9) * distance(b, c)) {
+        tri.emplace_back(a, b, d);
+        tri.emplace_back(a, d, c);
+      } else {
+        tri.emplace_back(a, b, c);
+        tri.emplace_back(b, d, c);
+      }
     }
   const std::size_t side_nodes = nodes.size();
 

@@ -27,7 +27,21 @@ ChannelDynamics::ChannelDynamics(const Scene& scene, const SurfaceMesh& referenc
   o.layer = boundary_integral_options(scene, threads);
   o.layer.geometry = SurfaceGeometry::Flat;  // the wall has edges (the caps' rims): flat facets only
   o.gmres.tolerance = scene.fluid.tolerance;  // the far field's promise: a tighter wall buys nothing
-  channel_wall_ = std::make_unique<FixedWall>(mesh_.mesh, Points::Zero(mesh_.mesh.num_nodes(), 3), o);
+  // The disturbance cancels Poiseuille's flow on the side wall — nothing on a straight channel's,
+  // −u_P where a constriction's wall runs inside the inlet's cross-section — and vanishes on the
+  // caps, through which u_P enters and leaves (docs/channel.md §3.5).
+  Points wall_velocity = Points::Zero(mesh_.mesh.num_nodes(), 3);
+  for (Eigen::Index i = 0; i < wall_velocity.rows(); ++i)
+    if (mesh_.node_region[static_cast<std::size_t>(i)] == ChannelRegion::Side)
+      wall_velocity(i, 0) = -poiseuille(mesh_.mesh.vertices.row(i).transpose());
+  channel_wall_ = std::make_unique<FixedWall>(mesh_.mesh, wall_velocity, o);
+  if (!channel.geometry.straight()) {  // the empty constriction's traction: the capsule's Δp⁺ is measured from it
+    const FixedWallSolve empty = channel_wall_->solve(nullptr, channel_.mean_velocity);
+    if (!empty.converged)
+      throw SolverFailure(fmt::format("channel wall GMRES did not converge on the empty constriction (relative residual {:.1e})",
+                                      empty.residual));
+    empty_pressure_drop_ = capsflow::pressure_drop_from_caps(mesh_, channel_wall_->traction());
+  }
 }
 
 ChannelDynamics::~ChannelDynamics() = default;
@@ -86,29 +100,40 @@ void ChannelDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
   v = from_wall_ - u_;
   const Eigen::VectorXd area = nodal_areas(x, tri_);
   double work = 0;  // ∫ q·u_P dS, the load P1 and u_P at the nodes (lumped: O(h²) as the rest)
+  const ChannelGeometry& g = channel_.geometry;
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     const Vec3 p = x.row(i).transpose();
-    if (distance_from_axis(channel_.geometry, p.y(), p.z()) >= channel_.geometry.radius)
+    if (relative_distance_from_axis(g, p) >= 1)
       throw SolverFailure(fmt::format("capsule node {} left the channel's cross-section", i));
     const double up = poiseuille(p);
     v(i, 0) += up;
     work += area[i] * q(i, 0) * up;
   }
-  pressure_drop_ = work / (channel_.mean_velocity * channel_cross_section_area(channel_.geometry));
+  // Δp⁺: by the reciprocal theorem with the undisturbed flow, which is Poiseuille's in a straight
+  // channel; in a constriction it is not, and the caps' pressure over that of the empty one is used.
+  pressure_drop_ = g.straight() ? work / (channel_.mean_velocity * channel_cross_section_area(g))
+                                : pressure_drop_from_caps() - empty_pressure_drop_;
   if (volume_correction_) {
     volume_gradient(x, tri_, area_normal_);
     remove_normal_flux(area_normal_, v);
   }
-  // The frame moves with the capsule's centroid along the channel (a uniform velocity has no flux).
   axial_velocity_ = centroid_rate(x, tri_, v).x();
-  v.col(0).array() -= axial_velocity_;
+  if (g.straight()) {
+    // The frame moves with the capsule's centroid along the channel (a uniform velocity has no flux).
+    v.col(0).array() -= axial_velocity_;
+  } else if (x.col(0).maxCoeff() > 0.5 * g.length - g.radius) {
+    // In the lab frame the capsule travels towards the outlet; within a radius of it the cap's
+    // zero disturbance would be felt.
+    throw SolverFailure(fmt::format("the capsule reached x1 = {:.3g}, within channel.radius of the outlet cap at {:.3g}",
+                                    x.col(0).maxCoeff(), 0.5 * g.length));
+  }
   clock.lap(times_, Phase::Other);
   ++counters_.evaluations;
   if (!v.allFinite()) throw SolverFailure("non-finite velocity");
 }
 
 double ChannelDynamics::pressure_drop_from_caps() const {
-  return capsflow::pressure_drop_from_caps(mesh_, channel_wall_->traction());
+  return capsflow::pressure_drop_from_caps(mesh_, channel_wall_->traction()) - empty_pressure_drop_;
 }
 
 double pressure_drop_from_caps(const ChannelMesh& channel, const Points& traction) {

@@ -369,9 +369,11 @@ const Section<ChannelSpec>& channel_keys() {
   static const Section<ChannelSpec> s{
       "channel", &Scene::channel,
       {choice("shape", &ChannelSpec::shape, ChannelKind::None,
-              "a straight channel along x1 around the capsule (`docs/channel.md`): `tube` (circular) or `square_duct`, "
-              "closed by an inlet and an outlet cap, with Poiseuille's flow through it (`flow.type = \"poiseuille\"`, "
-              "required with a channel and only with one); `none`: unbounded flow"),
+              "a channel along x1 around the capsule (`docs/channel.md`): `tube` (circular), `square_duct`, or "
+              "`constricted_duct` (the square duct narrowed over a short length, the `constriction_*` keys; the run is "
+              "in the lab frame and ends before the capsule reaches the outlet), closed by an inlet and an outlet cap, "
+              "with Poiseuille's flow through it (`flow.type = \"poiseuille\"`, required with a channel and only with "
+              "one); `none`: unbounded flow"),
        number("radius", &ChannelSpec::radius, 1.25, above(0.0),
               "tube radius or duct half-width, in ℓ (1.25: confinement ℓ/radius = 0.8); the capsule must start inside it"),
        number("length", &ChannelSpec::length, 10.0, above(0.0),
@@ -380,7 +382,21 @@ const Section<ChannelSpec>& channel_keys() {
        number_or_auto("element_size", &ChannelSpec::element_size, &ChannelSpec::element_size_auto, above(0.0),
                       "a positive number", 0.0,
                       "the wall's target edge length, in ℓ; `\"auto\"`: the capsule's mean edge, but not finer than "
-                      "radius/8 (`docs/channel.md` §4); at most 4 times the capsule's mean edge")}};
+                      "radius/8 (`docs/channel.md` §4); at most 4 times the capsule's mean edge"),
+       number("constriction_height", &ChannelSpec::constriction_height, 0.5, open_closed(0.0, 1.0),
+              "constricted_duct: the narrow part's half-height along x2, in channel radii (0.5: Park & Dimitrakopoulos "
+              "2013's constriction, as high as a capsule of radius radius/2)"),
+       number("constriction_width", &ChannelSpec::constriction_width, 1.0, open_closed(0.0, 1.0),
+              "constricted_duct: the narrow part's half-width along x3, in channel radii (1: not narrowed along x3)"),
+       number("constriction_length", &ChannelSpec::constriction_length, 1.0, at_least(0.0),
+              "constricted_duct: the narrow part's length along x1, in channel radii"),
+       number("constriction_center", &ChannelSpec::constriction_center, 2.0, Range<double>{},
+              "constricted_duct: x1 of the narrow part's middle, in channel radii (the capsule starts where its mesh is); "
+              "the constriction and its tapers must end at least 2 radii from each cap and clear the capsule's start"),
+       number_or_auto("constriction_taper", &ChannelSpec::constriction_taper, &ChannelSpec::constriction_taper_auto,
+                      above(0.0), "a positive number", 0.0,
+                      "constricted_duct: the length along x1 of each straight taper from the duct to the narrow part, in "
+                      "channel radii; `\"auto\"`: one wall element, the steepest step the wall's mesh resolves")}};
   return s;
 }
 

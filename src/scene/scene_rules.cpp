@@ -57,7 +57,11 @@ void check_channel(const TomlReader& r, const Scene& s) {
   const bool poiseuille = s.flow.type == FlowType::Poiseuille;
   if (s.channel.active() && !poiseuille) r.fail("flow", "type", "must be \"poiseuille\" with a [channel]");
   if (!s.channel.active() && poiseuille)
-    r.fail("channel", "shape", "a Poiseuille flow needs a channel: set channel.shape to \"tube\" or \"square_duct\"");
+    r.fail("channel", "shape", "a Poiseuille flow needs a channel: set channel.shape to \"tube\", \"square_duct\" or \"constricted_duct\"");
+  if (s.channel.shape != ChannelKind::ConstrictedDuct)
+    for (const char* key : {"constriction_height", "constriction_width", "constriction_length", "constriction_center",
+                            "constriction_taper"})
+      if (r.has("channel", key)) r.fail("channel", key, "is a constricted duct's: set channel.shape = \"constricted_duct\"");
   if (!s.channel.active()) return;
   if (s.capsule_centers().size() > 1)
     r.fail("channel", "shape", "holds one capsule: several capsules in a channel are not implemented");

@@ -74,5 +74,45 @@ TEST(ChannelMesh, RefusesANonPositiveSizeOrAnElementLargerThanTheRadius) {
   EXPECT_THROW(make_channel_mesh(g), std::invalid_argument);
 }
 
+TEST(ChannelMesh, ConstrictedDuctIsClosedOutwardAndExactlyItsShape) {
+  // The tapers are planar (each half-size linear in x), so the polyhedron is the exact shape and
+  // its volume the integral of the cross-section 4 h_y h_z: to round-off.
+  ChannelGeometry g;
+  g.shape = ChannelShape::ConstrictedDuct, g.radius = 1, g.length = 8, g.element_size = 0.2;
+  g.constriction_height = 0.5, g.constriction_width = 0.7, g.constriction_length = 1.2, g.constriction_center = 0.4;
+  g.constriction_taper = 0.3;
+  const ChannelMesh c = make_channel_mesh(g);
+  SurfaceMesh copy = c.mesh;
+  EXPECT_FALSE(validate_closed_surface(copy));
+  const double W = 1, H = 0.5, Z = 0.7, T = 0.3, L = 1.2;
+  const double taper = T * (W * W + W * (H - W) / 2 + W * (Z - W) / 2 + (H - W) * (Z - W) / 3);
+  const double exact = 4 * (W * W * (g.length - L - 2 * T) + H * Z * L + 2 * taper);
+  EXPECT_NEAR(enclosed_volume(c.mesh), exact, 1e-12 * exact);
+  // Every side node on the wall of its station, the narrow part's and the tapers' included.
+  for (Eigen::Index i = 0; i < c.mesh.num_nodes(); ++i) {
+    if (c.node_region[static_cast<std::size_t>(i)] != ChannelRegion::Side) continue;
+    ASSERT_NEAR(relative_distance_from_axis(g, c.mesh.vertices.row(i).transpose()), 1.0, 1e-12) << "node " << i;
+  }
+  EXPECT_EQ(channel_half_sizes(g, 0.4), Eigen::Vector2d(0.5, 0.7));  // exact: the narrow part
+  EXPECT_EQ(channel_half_sizes(g, -3.0), Eigen::Vector2d(1, 1));    // exact: the inlet's duct
+  // No sliver where the wall turns inward: the tapers are cut by their slant, so edges stay within
+  // [0.4, 1.8] of the target (the narrow part's ring is the wide one scaled by 0.5) and angles ≥ 20°.
+  const MeshStats st = mesh_stats(c.mesh);
+  EXPECT_GT(st.edge_min, 0.4 * 0.2);
+  EXPECT_LT(st.edge_max, 1.8 * 0.2);
+  EXPECT_GT(st.min_angle_deg, 20.0);
+}
+
+TEST(ChannelMesh, RefusesAConstrictionThatDoesNotFit) {
+  ChannelGeometry g;
+  g.shape = ChannelShape::ConstrictedDuct, g.radius = 1, g.length = 6, g.element_size = 0.2;
+  g.constriction_height = 1.2;  // wider than the duct
+  EXPECT_THROW(make_channel_mesh(g), std::invalid_argument);
+  g.constriction_height = 0.5, g.constriction_center = 2.8;  // reaches the outlet cap
+  EXPECT_THROW(make_channel_mesh(g), std::invalid_argument);
+  g.constriction_center = 0, g.constriction_taper = 0;  // a vertical step: the mesh cannot make it
+  EXPECT_THROW(make_channel_mesh(g), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace capsflow

@@ -1,6 +1,6 @@
 #pragma once
-// The right-hand side of one capsule in a straight channel's Poiseuille flow (docs/channel.md §4),
-// at viscosity ratio 1: positions x of the capsule → node velocities
+// The right-hand side of one capsule in a channel's Poiseuille flow (docs/channel.md §4), at
+// viscosity ratio 1: positions x of the capsule → node velocities
 //
 //   v = u_P(x) − S_C[q](x) + S_W[f](x) − U e_x,     S_W[f] = S_C[q] on the wall,
 //
@@ -13,14 +13,17 @@
 // Subtracting U keeps the capsule where it started along the channel: the frame moves with it,
 // and the channel — straight, so the same wherever the frame is — with its caps always the same
 // distance ahead and behind. axial_velocity() is U, the capsule's speed through the channel.
+// A constricted duct is not the same wherever the frame is: there the frame is the lab's (no
+// −U e_x), u_P is the inlet's Poiseuille flow, and the wall's disturbance also cancels u_P where
+// the constriction's wall runs inside the inlet's cross-section (the wall velocity −u_P, §3.5).
 // With fluid.volume_correction the capsule's flux is removed as for a capsule alone.
 //
 // The wall traction's warm start is not part of carry(): an evaluation off the trajectory (a
 // probe, an output) moves the next solve's starting point, within the GMRES tolerance.
 //
 // Throws SolverFailure when a node leaves the channel's cross-section or comes within 1e-3
-// element sizes of the wall (off_surface.hpp's too-close limit), or the wall's solve does not
-// converge.
+// element sizes of the wall (off_surface.hpp's too-close limit), the wall's solve does not
+// converge, or (lab frame) the capsule comes within a channel radius of the outlet cap.
 #include <memory>
 
 #include "capsflow/core/bie/fixed_wall.hpp"
@@ -76,7 +79,9 @@ class ChannelDynamics final : public CapsulesDynamics {
   // The additional pressure drop Δp⁺ the capsule causes (in μV/ℓ), of the last evaluation, by the
   // reciprocal theorem with Poiseuille's flow (docs/channel.md §4): Q Δp⁺ = ∫_C q·u_P dS, Q the
   // flux; and the same read from the wall's traction (the free pressure_drop_from_caps below) — a
-  // check through the wall's solve, with the caps' O(h) error.
+  // check through the wall's solve, with the caps' O(h) error; less the empty channel's, which is
+  // not zero in a constriction. In a constriction, whose undisturbed flow is not u_P, Δp⁺ is the
+  // latter.
   double pressure_drop() const { return pressure_drop_; }
   double pressure_drop_from_caps() const;
 
@@ -91,6 +96,7 @@ class ChannelDynamics final : public CapsulesDynamics {
   Points u_, induced_, from_wall_, area_normal_;  // scratch
   FixedWallSolve last_solve_;
   double axial_velocity_ = 0, wall_gap_ = 0, pressure_drop_ = 0;
+  double empty_pressure_drop_ = 0;  // the caps' pressure drop without a capsule (constriction)
   long wall_gmres_iterations_ = 0;
   PhaseTimes times_;
   RhsCounters counters_;

@@ -11,7 +11,7 @@ namespace capsflow {
 enum class MeshShape { Sphere, Spheroid, Biconcave };
 enum class WallModel { Membrane, Gsmb };
 enum class FlowType { PlanarHyperbolic, SimpleShear, Linear, Quiescent, Poiseuille };
-enum class ChannelKind { None, Tube, SquareDuct };
+enum class ChannelKind { None, Tube, SquareDuct, ConstrictedDuct };
 enum class OutputField { Velocity, Load, Energy };
 
 inline constexpr NameTable<MeshShape, 3> kMeshShapeNames{
@@ -22,8 +22,10 @@ inline constexpr NameTable<FlowType, 5> kFlowTypeNames{{{FlowType::PlanarHyperbo
                                                         {FlowType::Linear, "linear"},
                                                         {FlowType::Quiescent, "quiescent"},
                                                         {FlowType::Poiseuille, "poiseuille"}}};
-inline constexpr NameTable<ChannelKind, 3> kChannelKindNames{
-    {{ChannelKind::None, "none"}, {ChannelKind::Tube, "tube"}, {ChannelKind::SquareDuct, "square_duct"}}};
+inline constexpr NameTable<ChannelKind, 4> kChannelKindNames{{{ChannelKind::None, "none"},
+                                                              {ChannelKind::Tube, "tube"},
+                                                              {ChannelKind::SquareDuct, "square_duct"},
+                                                              {ChannelKind::ConstrictedDuct, "constricted_duct"}}};
 inline constexpr NameTable<OutputField, 3> kOutputFieldNames{
     {{OutputField::Velocity, "velocity"}, {OutputField::Load, "load"}, {OutputField::Energy, "energy"}}};
 

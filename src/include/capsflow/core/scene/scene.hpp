@@ -130,6 +130,11 @@ struct ChannelSpec {
   double length;              // from inlet to outlet, in ℓ
   double element_size;        // the wall's target edge, in ℓ (resolved from the capsule's under "auto")
   bool element_size_auto = true;
+  // constricted_duct, in channel radii: the narrow part's half-height (y) and half-width (z), its
+  // length, its centre's x1, and each taper's length ("auto": the wall's element size).
+  double constriction_height, constriction_width, constriction_length, constriction_center;
+  double constriction_taper;
+  bool constriction_taper_auto = true;
   bool active() const { return shape != ChannelKind::None; }
 };
 
