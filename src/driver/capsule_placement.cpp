@@ -9,6 +9,7 @@
 #include "capsflow/core/bie/cross_near_field.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
+#include "capsflow/core/rhs/wall_factory.hpp"
 
 namespace capsflow {
 
@@ -20,6 +21,7 @@ SurfaceSet place_capsules(const Scene& scene) {
     const Vec3& c = centers[k];
     const bool own = k < scene.capsules.size() && scene.capsules[k].mesh;
     SurfaceMesh m = own ? make_reference_mesh(*scene.capsules[k].mesh) : shared;
+    m.vertices = stretched_nodes(m, scene.capsule_scene(static_cast<int>(k)).wall.initial_stretch);
     if (!c.isZero()) m.vertices.rowwise() += c.transpose();  // zero: untouched (−0.0 stays −0.0)
     parts.push_back(std::move(m));
   }

@@ -210,7 +210,12 @@ const Section<WallSpec>& wall_keys() {
                                        "at which the laws are tested"),
               "pre-inflation α_p: the wall's stress-free shape is the initial one shrunk by 1 + α_p about its centroid, so "
               "the capsule starts inflated and under tension (as in Lac, Morel & Barthès-Biesel 2007; `docs/shell.md` "
-              "§2.10); any model, law and flow; 0: the initial shape is stress-free")}};
+              "§2.10); any model, law and flow; 0: the initial shape is stress-free"),
+       number("initial_stretch", &WallSpec::initial_stretch, 1.0,
+              closed(1.0, 2.0).because("a stretch of 2 narrows the capsule by 1/√2, enough for confinements up to 1.4"),
+              "the capsule starts stretched along x1 by this factor and narrowed across by its square root (its volume "
+              "kept) about its centroid, its wall's stress-free shape being the mesh's (shrunk by 1 + `prestress`): a "
+              "capsule wider than a channel starts inside it (`docs/shell.md` §2.10); 1: the mesh's shape")}};
   return s;
 }
 

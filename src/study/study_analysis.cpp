@@ -60,10 +60,16 @@ StudyAnalysis analyse_study(const StudyPlan& plan, const std::vector<VariantReco
       results.push_back(done[i].second);
     }
 
+    // The observables every level has: a channel's too when all are channel runs.
+    std::vector<std::string> observables = observable_names();
+    bool channel = true;
+    for (const VariantResult* r : results) channel = channel && r->series.count(channel_observable_names().front()) > 0;
+    if (channel) observables.insert(observables.end(), channel_observable_names().begin(), channel_observable_names().end());
+
     // At the end of the run.
     double t_min = results.front()->t_final, t_max = t_min;
     for (const VariantResult* r : results) t_min = std::min(t_min, r->t_final), t_max = std::max(t_max, r->t_final);
-    for (const std::string& obs : observable_names()) {
+    for (const std::string& obs : observables) {
       ConvergenceRow row;
       row.family = family;
       row.observable = obs;
@@ -88,7 +94,7 @@ StudyAnalysis analyse_study(const StudyPlan& plan, const std::vector<VariantReco
         index.push_back(*j);
       }
       if (index.size() != results.size()) continue;
-      for (const std::string& obs : observable_names()) {
+      for (const std::string& obs : observables) {
         ConvergenceRow row;
         row.family = family;
         row.observable = obs;

@@ -10,6 +10,8 @@
 #include <stdexcept>
 
 #include "capsflow/core/mesh/generation.hpp"
+#include "capsflow/core/mesh/reference_mesh.hpp"
+#include "capsflow/core/mesh/stats.hpp"
 
 namespace capsflow::study {
 
@@ -147,6 +149,11 @@ StudyPlan build_study_plan(const std::string& scene_path, const SceneLoader& loa
   const Scene base = load(set);
   if (!base.mesh.file.empty())
     fail("the scene reads its mesh from mesh.file (" + base.mesh.file + "): a study refines generated meshes (mesh.level)");
+  // A channel whose wall follows the capsule (element_size "auto") is refined with it, without the
+  // auto rule's floor of radius/8, so that wall and capsule elements halve together from level to
+  // level (docs/channel.md §5); a size given with --set or --vary is kept.
+  bool refine_wall = base.channel.active() && base.channel.element_size_auto;
+  for (const VaryAxis& a : vary) refine_wall = refine_wall && a.key != "channel.element_size";
 
   // Leaf names ("geometry") label the variants unless two axes share one (fluid.tolerance and
   // time.tolerance): then the full key.
@@ -188,8 +195,13 @@ StudyPlan build_study_plan(const std::string& scene_path, const SceneLoader& loa
       std::vector<SceneOverride> given = set;
       for (const auto& [k, val] : v.settings) given.push_back({k + "=" + val, "--vary"});
       given.push_back({"mesh.level=" + std::to_string(level), "--levels"});
-      for (const SceneOverride& o : given) v.overrides.push_back(o.assignment);
       v.scene = load(given);
+      if (refine_wall) {  // the wall refines with the capsule: its element size is the capsule's mean edge at this level
+        given.push_back({fmt::format("channel.element_size={:.6g}", mesh_stats(make_reference_mesh(v.scene.mesh)).edge_mean),
+                         "--levels"});
+        v.scene = load(given);
+      }
+      for (const SceneOverride& o : given) v.overrides.push_back(o.assignment);
       v.elements = expected_counts(v.scene.mesh.base, level).elements;
       plan.variants.push_back(std::move(v));
     }

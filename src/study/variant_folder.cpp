@@ -78,6 +78,11 @@ const std::vector<std::string>& observable_names() {
   return names;
 }
 
+const std::vector<std::string>& channel_observable_names() {
+  static const std::vector<std::string> names = {"velocity_ratio", "pressure_drop"};
+  return names;
+}
+
 namespace {
 // A run of several capsules (docs/several-capsules.md): a study's observables are capsule 1's.
 bool several_capsules(const nlohmann::json& summary) {
@@ -112,6 +117,8 @@ VariantResult read_variant_result(const fs::path& dir) {
       r.final_values["L" + std::to_string(i + 1)] = c.at("L").at(i).get<double>();
       r.final_values["Le" + std::to_string(i + 1)] = c.at("Le").at(i).get<double>();
     }
+    if (s.contains("channel"))
+      for (const std::string& k : channel_observable_names()) r.final_values[k] = s.at(k).get<double>();
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error("'" + sp.string() + "': missing or malformed key (" + e.what() + ")");
   }
@@ -126,14 +133,16 @@ VariantResult read_variant_result(const fs::path& dir) {
   for (std::size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
   if (!column.count("t")) throw std::runtime_error("'" + cp.string() + "': no column 't'");
   const std::string prefix = several_capsules(s) ? "c1." : "";  // the observables are capsule 1's
-  for (const std::string& name : observable_names())
+  std::vector<std::string> names = observable_names();
+  if (s.contains("channel")) names.insert(names.end(), channel_observable_names().begin(), channel_observable_names().end());
+  for (const std::string& name : names)
     if (!column.count(prefix + name)) throw std::runtime_error("'" + cp.string() + "': no column '" + prefix + name + "'");
   while (std::getline(in, line)) {
     const std::vector<std::string> cells = split(line);
     if (cells.size() != header.size()) continue;  // a line cut by a crash
     auto cell = [&](const std::string& name) { return std::strtod(cells[column.at(name)].c_str(), nullptr); };
     r.times.push_back(cell("t"));
-    for (const std::string& name : observable_names()) r.series[name].push_back(cell(prefix + name));
+    for (const std::string& name : names) r.series[name].push_back(cell(prefix + name));
   }
   return r;
 }

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "capsflow/core/driver/capsule_placement.hpp"
 #include "capsflow/core/geometry/measures.hpp"
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/rhs/capsule_dynamics.hpp"
@@ -113,4 +114,24 @@ TEST(Prestress, PreInflatedSphereInQuiescentFluidDoesNotMove) {
   const double qR = dyn.load().rowwise().norm().maxCoeff();
   EXPECT_GT(qR, 0.5);  // the wall is loaded (2T/R = 0.68 for Skalak C = 1 at λ = 1.05)
   EXPECT_LT(v.rowwise().norm().maxCoeff(), 0.01 * qR);
+}
+
+TEST(Prestress, AStretchedStartKeepsTheVolumeAndTheMeshAsTheStressFreeShape) {
+  // wall.initial_stretch = 1.3: the sphere starts as the spheroid of semi-axes 1.3 and 1/√1.3 (the
+  // same volume), and its wall is stress-free at the mesh's sphere shrunk by 1 + α_p.
+  const Scene s = parse_scene(default_scene_toml(), "test",
+                              {"mesh.level=3", "mesh.shape=\"sphere\"", "flow.type=\"quiescent\"", "flow.ca_s=1",
+                               "wall.model=\"membrane\"", "wall.law=\"nh\"", "wall.initial_stretch=1.3",
+                               "wall.prestress=0.05"});
+  const SurfaceMesh sphere = make_reference_mesh(s.mesh);
+  const SurfaceMesh start = place_capsules(s).mesh();
+  const double r = sphere.vertices.col(0).maxCoeff();  // the mesh's nodes lie on a sphere of radius r ≈ 1
+  EXPECT_NEAR(start.vertices.col(0).maxCoeff(), 1.3 * r, 1e-12);  // round-off of a scaling
+  EXPECT_NEAR(start.vertices.col(1).maxCoeff(), r / std::sqrt(1.3), 1e-12);
+  EXPECT_NEAR(enclosed_volume(start), enclosed_volume(sphere), 1e-12);  // a volume-keeping map
+  const std::unique_ptr<shell::Wall> wall = make_wall(s, start);
+  const Points stress_free = sphere.vertices / 1.05;
+  EXPECT_LT(wall->energies(stress_free).total(), 1e-14);  // round-off of a zero strain (the stretched start's is ~1)
+  EXPECT_GT(wall->energies(start.vertices).total(), 0.1);  // the stretched start stores energy (≈ G_s·area·strain²)
+  EXPECT_LT((stress_free_nodes(start, 0.05, 1.3) - stress_free).cwiseAbs().maxCoeff(), 1e-14);  // the inverse map
 }

@@ -135,9 +135,9 @@ every = 0.1
 fields = ["velocity", "energy"]
 checkpoint_every = 0
 )";
-  // Keys added since (fluid.far_rule, fmm_leaf_size, viscosity_ratio, max_gmres, reuse_identity_term, wall.prestress) are written with their defaults, the rest unchanged.
+  // Keys added since (fluid.far_rule, fmm_leaf_size, viscosity_ratio, max_gmres, reuse_identity_term, wall.prestress, initial_stretch) are written with their defaults, the rest unchanged.
   std::string expected = stored;
-  expected.replace(expected.find("max_newton = 17\n"), 16, "max_newton = 17\nprestress = 0\n");
+  expected.replace(expected.find("max_newton = 17\n"), 16, "max_newton = 17\nprestress = 0\ninitial_stretch = 1\n");
   expected.replace(expected.find("verify_every = 7\n"), 17, "verify_every = 7\nviscosity_ratio = 1\nmax_gmres = 100\nreuse_identity_term = true\n");
   expected.replace(expected.find("fmm_order = 9\n"), 14, "fmm_order = 9\nfmm_leaf_size = 0\n");
   expected.replace(expected.find("geometry = \"curved\"\n"), 20, "geometry = \"curved\"\nfar_rule = \"auto\"\n");

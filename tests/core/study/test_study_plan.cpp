@@ -115,3 +115,21 @@ TEST(StudyPlan, SceneErrorsNameTheOptionThatGaveTheKey) {
   const std::string set = error([] { make_study_plan("", {"fluid.verify_every=-2"}, {2}, {}); });
   EXPECT_EQ(set.rfind("--set fluid.verify_every: -2 is out of range", 0), 0u) << set;
 }
+
+TEST(StudyPlan, AChannelsWallIsRefinedWithTheCapsuleUnlessItsSizeIsGiven) {
+  // element_size "auto" floors the wall at radius/8 = 0.139: a study sets it to the capsule's mean
+  // edge at every level instead, so that wall and capsule halve together (ratio 2 to 1 %: the
+  // icosphere's edges shrink by 2 per level up to its curvature's O(h²)).
+  const std::vector<std::string> tube = {"flow.type=\"poiseuille\"", "channel.shape=\"tube\"", "channel.radius=1.111",
+                                         "mesh.shape=\"sphere\""};
+  const StudyPlan p = make_study_plan("", tube, parse_levels("2,3,4"), {});
+  ASSERT_EQ(p.variants.size(), 3u);
+  for (std::size_t i = 0; i + 1 < 3; ++i)
+    EXPECT_NEAR(p.variants[i].scene.channel.element_size / p.variants[i + 1].scene.channel.element_size, 2.0, 0.02);
+  EXPECT_LT(p.variants[2].scene.channel.element_size, 1.111 / 8);  // below the auto rule's floor
+  EXPECT_NE(p.variants[2].overrides.back().find("channel.element_size="), std::string::npos);  // stated in the command
+  std::vector<std::string> given = tube;
+  given.push_back("channel.element_size=0.2");
+  for (const Variant& v : make_study_plan("", given, parse_levels("2,3"), {}).variants)
+    EXPECT_EQ(v.scene.channel.element_size, 0.2);  // exact: the user's
+}

@@ -24,19 +24,25 @@ struct Folder {
   }
   ~Folder() { fs::remove_all(path); }
   // A summary.json with every key the study reads, and a timeseries.csv of two rows.
-  void write_run(const nlohmann::json& stop_reason) const {
+  // A channel run (channel = true) adds its summary keys and columns.
+  void write_run(const nlohmann::json& stop_reason, bool channel = false) const {
     nlohmann::json s = {{"t", 0.5},       {"elements", 80},  {"nodes", 42},  {"wall_seconds", 1.5}, {"rhs_evaluations", 10},
                         {"D12", 0.1},     {"D13", -0.2},     {"D23", 0.0},   {"area", 1.0},         {"volume_drift", 1e-9},
                         {"L", {1, 2, 3}}, {"Le", {1, 2, 3}}, {"scene", {}},
                         {"timing", {{"seconds_per_evaluation", 0.1}, {"rhs_evaluations", 10}, {"phases", {{"bie_far", 0.5}}}}}};
     if (!stop_reason.is_null()) s["stop_reason"] = stop_reason;
+    std::vector<std::string> names = study::observable_names();
+    if (channel) {
+      s["velocity_ratio"] = 1.25, s["pressure_drop"] = 7.5, s["channel"] = {{"shape", "tube"}};
+      names.insert(names.end(), {"velocity_ratio", "pressure_drop"});
+    }
     std::ofstream(path / "summary.json") << s.dump(2);
     std::ofstream csv(path / "timeseries.csv");
     csv << "t";
-    for (const std::string& n : study::observable_names()) csv << "," << n;
+    for (const std::string& n : names) csv << "," << n;
     for (double t : {0.0, 0.5}) {
       csv << "\n" << t;
-      for (std::size_t i = 0; i < study::observable_names().size(); ++i) csv << ",0.5";
+      for (std::size_t i = 0; i < names.size(); ++i) csv << ",0.5";
     }
     csv << "\n";
   }
@@ -78,4 +84,15 @@ TEST(VariantFolder, AStopReasonThisCapsflowDoesNotWriteIsAnErrorNamingTheFile) {
     }
     EXPECT_THROW(study::read_variant_result(f.path), std::runtime_error) << bad.dump();
   }
+}
+
+TEST(VariantFolder, AChannelRunAddsItsSpeedAndPressureDropToTheObservables) {
+  const Folder f;
+  f.write_run("t_end", true);
+  const study::VariantResult r = study::read_variant_result(f.path);
+  EXPECT_EQ(r.final_values.at("velocity_ratio"), 1.25);  // exact: read back from the JSON
+  EXPECT_EQ(r.final_values.at("pressure_drop"), 7.5);
+  EXPECT_EQ(r.series.at("velocity_ratio"), (std::vector<double>{0.5, 0.5}));
+  f.write_run("t_end", false);
+  EXPECT_EQ(study::read_variant_result(f.path).series.count("velocity_ratio"), 0u);  // not a channel run
 }

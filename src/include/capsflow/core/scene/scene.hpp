@@ -46,6 +46,7 @@ struct WallSpec {
   double mooney_rivlin_psi;    // Mooney–Rivlin Ψ = C2/(C1 + C2) in [0, 1]; 0 is NH
   int max_newton;              // GSMB: iteration cap of the rotation Newton solve (shell::GsmbOptions)
   double prestress;            // pre-inflation α_p: the stress-free shape is the initial one shrunk by 1 + α_p
+  double initial_stretch;      // the capsule starts stretched along x1 by this factor at constant volume
 };
 
 struct FlowSpec {

@@ -27,6 +27,8 @@ FolderState inspect_variant_folder(const std::filesystem::path& dir);
 // The observables of the analysis: names of timeseries.csv columns (L and Le of summary.json
 // become L1..L3, Le1..Le3).
 const std::vector<std::string>& observable_names();
+// A channel run's further observables (docs/channel.md §5): columns and summary.json keys.
+const std::vector<std::string>& channel_observable_names();
 
 struct VariantResult {
   nlohmann::json summary;  // summary.json as written
@@ -38,7 +40,7 @@ struct VariantResult {
   double seconds_per_evaluation = 0;  // of the last segment (its timing table)
   std::map<std::string, double> seconds_per_evaluation_by_phase;  // last segment
   double peak_rss_mb = 0;      // 0 when the summary predates the key
-  std::map<std::string, double> final_values;        // observable → value at the end
+  std::map<std::string, double> final_values;        // observable → value at the end (a channel's too)
   std::vector<double> times;                         // output times of timeseries.csv
   std::map<std::string, std::vector<double>> series;  // observable → value per output time
 };
