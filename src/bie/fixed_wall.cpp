@@ -46,7 +46,86 @@ FixedWall::FixedWall(const SurfaceMesh& wall, const Points& velocity, const Fixe
     rhs0_ = 0.5 * velocity_ - Du;
   }
   traction_ = Points::Zero(n, 3);
+  if (opt.edge_pressure) build_edge_pressure();
   if (opt.precondition) build_preconditioner();
+}
+
+void FixedWall::build_edge_pressure() {
+  const SurfaceMesh& wall = mesh_;
+  const Points ne = element_normals(wall);
+  std::vector<Eigen::Index> column(static_cast<std::size_t>(wall.num_nodes()), -1);
+  for (Eigen::Index e = 0; e < wall.num_elements(); ++e) {
+    EdgeElement edge{e, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}};
+    bool any = false;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Index node = wall.triangles(e, k);
+      const Vec3 dn = (ne.row(e) - normal_.row(node)).transpose();
+      if (dn.norm() <= opt_.edge_angle) continue;
+      edge.dn[static_cast<std::size_t>(k)] = dn;
+      any = true;
+      if (column[static_cast<std::size_t>(node)] < 0) {
+        column[static_cast<std::size_t>(node)] = static_cast<Eigen::Index>(edge_nodes_.size());
+        edge_nodes_.push_back(node);
+      }
+    }
+    if (any) edge_elements_.push_back(edge);
+  }
+  // Column c: the flow at every node of a unit pressure at edge node c. A node of the element takes
+  // its singular integral (closed form), any other node the adaptive rule.
+  const Triangles& tri = wall.triangles;
+  const Points& x = wall.vertices;
+  edge_at_nodes_ = Eigen::MatrixXd::Zero(3 * wall.num_nodes(), static_cast<Eigen::Index>(edge_nodes_.size()));
+#pragma omp parallel for schedule(dynamic, 16) num_threads(layer_threads(opt_.layer))
+  for (Eigen::Index i = 0; i < wall.num_nodes(); ++i) {
+    const Vec3 p = x.row(i).transpose();
+    for (const EdgeElement& edge : edge_elements_) {
+      int at = -1;  // the target's vertex position on this element
+      for (int k = 0; k < 3; ++k)
+        if (tri(edge.e, k) == i) at = k;
+      std::array<Vec3, 3> flow;  // per vertex k: ∫ G φ_k dS (n_e − n_k), unscaled
+      if (at >= 0) {
+        const int a = (at + 1) % 3, b = (at + 2) % 3;
+        const std::array<Mat3, 3> m = singular_element_integral(p, x.row(tri(edge.e, a)).transpose(), x.row(tri(edge.e, b)).transpose());
+        flow[static_cast<std::size_t>(at)] = m[0] * edge.dn[static_cast<std::size_t>(at)];
+        flow[static_cast<std::size_t>(a)] = m[1] * edge.dn[static_cast<std::size_t>(a)];
+        flow[static_cast<std::size_t>(b)] = m[2] * edge.dn[static_cast<std::size_t>(b)];
+      } else {
+        const QuadraticTriangle T = QuadraticTriangle::flat(x.row(tri(edge.e, 0)).transpose(), x.row(tri(edge.e, 1)).transpose(),
+                                                            x.row(tri(edge.e, 2)).transpose());
+        const Vec3 zero = Vec3::Zero();
+        flow[0] = adaptive_element_apply(p, T, edge.dn[0], zero, zero);
+        flow[1] = adaptive_element_apply(p, T, zero, edge.dn[1], zero);
+        flow[2] = adaptive_element_apply(p, T, zero, zero, edge.dn[2]);
+      }
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Index c = column[static_cast<std::size_t>(tri(edge.e, k))];
+        if (c >= 0 && edge.dn[static_cast<std::size_t>(k)].squaredNorm() > 0)
+          edge_at_nodes_.block<3, 1>(3 * i, c) += fmm::Stokeslet::scale() * flow[static_cast<std::size_t>(k)];
+      }
+    }
+  }
+}
+
+void FixedWall::add_edge_pressure(const Points& t, const Points& targets, Points& u) const {
+  if (edge_elements_.empty()) return;
+  const Triangles& tri = mesh_.triangles;
+  const Points& x = mesh_.vertices;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(layer_threads(opt_.layer))
+  for (Eigen::Index i = 0; i < targets.rows(); ++i) {
+    const Vec3 p = targets.row(i).transpose();
+    Vec3 sum = Vec3::Zero();
+    for (const EdgeElement& edge : edge_elements_) {
+      std::array<Vec3, 3> c;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Index node = tri(edge.e, k);
+        c[static_cast<std::size_t>(k)] = edge.dn[static_cast<std::size_t>(k)] * normal_.row(node).dot(t.row(node));
+      }
+      const QuadraticTriangle T = QuadraticTriangle::flat(x.row(tri(edge.e, 0)).transpose(), x.row(tri(edge.e, 1)).transpose(),
+                                                          x.row(tri(edge.e, 2)).transpose());
+      sum += adaptive_element_apply(p, T, c[0], c[1], c[2]);
+    }
+    u.row(i) += fmm::Stokeslet::scale() * sum.transpose();
+  }
 }
 
 void FixedWall::build_preconditioner() {
@@ -105,6 +184,12 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
       flat(f) = v;
     }
     S_->apply(mesh_.vertices, f, Sf);
+    if (!edge_nodes_.empty()) {  // the edge nodes' pressures through the integrated columns
+      Eigen::VectorXd p(static_cast<Eigen::Index>(edge_nodes_.size()));
+      for (std::size_t c = 0; c < edge_nodes_.size(); ++c)
+        p[static_cast<Eigen::Index>(c)] = normal_.row(edge_nodes_[c]).dot(f.row(edge_nodes_[c]));
+      flat(Sf) += edge_at_nodes_ * p;
+    }
     double nf = 0;
     for (Eigen::Index i = 0; i < n; ++i) nf += area_[i] * normal_.row(i).dot(f.row(i));
     for (Eigen::Index i = 0; i < n; ++i) Sf.row(i) += (nf / total_area_) * normal_.row(i);
@@ -133,6 +218,7 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
 
 void FixedWall::velocity_at(const Points& targets, Points& u, OffSurfaceReport* report) {
   evaluate_off_surface(*S_, mesh_.vertices, traction_, targets, u, report);
+  add_edge_pressure(traction_, targets, u);
   if (moving_.empty()) return;
   const Triangles& t = mesh_.triangles;
   const Points& x = mesh_.vertices;

@@ -6,13 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 
 #include "capsflow/core/bie/fixed_wall.hpp"
 #include "capsflow/core/bie/quadrature.hpp"
 #include "capsflow/core/mesh/channel.hpp"
 #include "capsflow/core/theory/poiseuille.hpp"
-#include "capsflow/fmm/stokeslet.hpp"
 
 namespace capsflow {
 namespace {
@@ -40,13 +38,6 @@ ConstrictionFlow empty_constriction(double h) {
   FixedWall wall(c.mesh, uw);
   const FixedWallSolve s = wall.solve(nullptr, 1.0);
   ConstrictionFlow out;
-  std::printf("converged %d residual %.2e\n", s.converged, s.residual);
-  {
-    Points p(6, 3), u;
-    p << -3.25, 0, 0, -3.25, 0.5, 0.5, 0, 0, 0, 0, 0.25, 0.25, -2, 0, 0, -1.75, 0, 0;
-    wall.velocity_at(p, u);
-    for (int k = 0; k < 6; ++k) std::printf("p %g %g %g: u_d %g %g %g  u_P %g\n", p(k,0), p(k,1), p(k,2), u(k,0), u(k,1), u(k,2), u_p(p.row(k).transpose()));
-  }
   out.iterations = s.iterations;
   out.nodes = static_cast<long>(c.mesh.num_nodes());
   // Cross-sections by 10 × 10 Gauss–Legendre points; the profile at the narrow one's.
@@ -77,30 +68,15 @@ ConstrictionFlow empty_constriction(double h) {
   return out;
 }
 
-TEST(ConstrictionFlow, PointForceDebug) {
-  ChannelGeometry g;
-  g.shape = ChannelShape::ConstrictedDuct, g.radius = 1, g.length = 9, g.element_size = 0.2;
-  g.constriction_height = 0.5, g.constriction_width = 0.5, g.constriction_length = 3, g.constriction_taper = 0.5;
-  const ChannelMesh c = make_channel_mesh(g);
-  const Vec3 xs(0.3, 1.6, 0.2), F(1, 0.5, -0.3);
-  auto flow = [&](const Vec3& x) { return Vec3(fmm::Stokeslet::scale() * stokeslet_apply(x - xs, F)); };
-  Points uw(c.mesh.num_nodes(), 3);
-  for (Eigen::Index i = 0; i < uw.rows(); ++i) uw.row(i) = flow(c.mesh.vertices.row(i).transpose()).transpose();
-  FixedWall wall(c.mesh, uw);
-  const FixedWallSolve s = wall.solve();
-  Points p(4, 3), u;
-  p << -3, 0, 0, -1, 0.1, 0.2, 0, 0.2, -0.2, 3, 0.5, 0;
-  wall.velocity_at(p, u);
-  for (int k = 0; k < 4; ++k) std::printf("pf %d: got %g %g %g exact %g %g %g\n", k, u(k,0), u(k,1), u(k,2), flow(p.row(k).transpose()).x(), flow(p.row(k).transpose()).y(), flow(p.row(k).transpose()).z());
-  std::printf("it %d\n", s.iterations);
-}
-
 TEST(ConstrictionFlow, FluxIsConservedAndTheNarrowPartCarriesItsOwnPoiseuilleFlow) {
-  for (const double h : {0.2, 0.14}) {
-    const ConstrictionFlow f = empty_constriction(h);
-    std::printf("h %.3f nodes %ld iterations %d profile %.3e flux wide %.6f narrow %.6f\n", h, f.nodes, f.iterations,
-                f.profile_error, f.flux_wide, f.flux_narrow);
-  }
+  // h = 0.2 (2 082 wall nodes): measured 0.17 % (wide) and 0.39 % (narrow) flux errors and 0.41 % of
+  // the narrow centreline velocity in the profile, at order 1.7 to h = 0.14 (perf/bie/channel_wall,
+  // docs/channel.md §3.6). Bounds 2.5× those. With the plain P1 traction the same case is 25 % and
+  // 48 % off in flux and 47 % in the profile: the edges' pressure, which this test exists to catch.
+  const ConstrictionFlow f = empty_constriction(0.2);
+  EXPECT_NEAR(f.flux_wide, 4, 0.0043 * 4);
+  EXPECT_NEAR(f.flux_narrow, 4, 0.01 * 4);
+  EXPECT_LT(f.profile_error, 1e-2);
 }
 
 }  // namespace

@@ -87,6 +87,33 @@ TEST(ChannelScene, ACapsuleThatDoesNotFitAShortChannelAndACoarseWallAreRefusedBy
   EXPECT_NEAR(channel_flow_of(s, ref).geometry.element_size, std::max(mesh_stats(ref).edge_mean, 1.6 / 8), 1e-15);
 }
 
+TEST(ChannelScene, AConstrictionIsPlacedInRadiiAndRefusedWhereItDoesNotFit) {
+  // Radius 1.6, length 20: the narrow part (half-height 0.8, length 1.6) centred 3.2 downstream.
+  const std::vector<std::string> duct = {"channel.shape=\"constricted_duct\"", "channel.length=20"};
+  auto flow = [&](std::vector<std::string> o) {
+    o.insert(o.begin(), duct.begin(), duct.end());
+    const Scene s = tube_scene(o);
+    return channel_flow_of(s, make_reference_mesh(s.mesh));
+  };
+  const ChannelGeometry g = flow({}).geometry;
+  EXPECT_EQ(g.shape, ChannelShape::ConstrictedDuct);
+  EXPECT_DOUBLE_EQ(g.constriction_height, 0.8);  // 0.5 radius
+  EXPECT_DOUBLE_EQ(g.constriction_width, 1.6);   // 1 radius: not narrowed along x3
+  EXPECT_DOUBLE_EQ(g.constriction_center, 3.2);  // 2 radii
+  EXPECT_DOUBLE_EQ(g.constriction_taper, 0.4);   // auto: one wall element
+  EXPECT_NE(refusal([&] { flow({"channel.constriction_center=-0.5"}); }).find("upstream"), std::string::npos)
+      << "the capsule would start inside the constriction";
+  EXPECT_NE(refusal([&] { flow({"channel.constriction_center=5.5"}); }).find("2 radii"), std::string::npos)
+      << "the constriction would end 0.8 from the outlet cap";
+  EXPECT_NE(refusal([] { tube_scene({"channel.constriction_height=0.5"}); }).find("channel.constriction_height"),
+            std::string::npos)
+      << "a tube has no constriction";
+  EXPECT_NE(refusal([] { tube_scene({"channel.shape=\"constricted_duct\"", "channel.constriction_width=1.5"}); })
+                .find("channel.constriction_width"),
+            std::string::npos)
+      << "wider than the duct";
+}
+
 TEST(ChannelRun, WritesTheCapsulesSpeedThroughTheChannelAndItsLabPosition) {
   const fs::path dir = fs::temp_directory_path() / ("capsflow-channel-run-" + std::to_string(::getpid()));
   fs::remove_all(dir);

@@ -57,6 +57,38 @@ TEST(ChannelDynamics, AnUnloadedCapsuleMovesWithThePoiseuilleFlowAndLeavesTheWal
   EXPECT_NEAR(centroid_rate(ref.vertices, ref.triangles, v).x(), 0, 1e-12);
 }
 
+// In a constricted duct the frame is the lab's: the centroid moves at U (not held still), and an
+// unloaded capsule far upstream of the constriction moves, to within its disturbance, with the
+// inlet duct's Poiseuille flow (its wall's velocity −u_P on the constriction is not felt there).
+TEST(ChannelDynamics, InAConstrictionTheFrameIsTheLabsAndTheCapsuleAdvances) {
+  const Scene s = sphere_scene({"mesh.level=1"});
+  const SurfaceMesh ref = make_reference_mesh(s.mesh);
+  ChannelFlow c;
+  c.geometry.shape = ChannelShape::ConstrictedDuct;
+  c.geometry.radius = 2, c.geometry.length = 20, c.geometry.element_size = 0.5;
+  c.geometry.constriction_height = 1, c.geometry.constriction_width = 2, c.geometry.constriction_length = 2;
+  c.geometry.constriction_center = 5, c.geometry.constriction_taper = 0.5;
+  ChannelDynamics d(s, ref, c);
+  Points v;
+  d.evaluate(ref.vertices, v, {EvaluationHint::Role::Trajectory, 0});
+  const double U = d.axial_velocity();
+  EXPECT_NEAR(centroid_rate(ref.vertices, ref.triangles, v).x(), U, 1e-12);  // the lab frame: no −U e_x
+  // The inlet duct's flow averaged over the sphere (of radius 1 in a duct of half-width 2, 3.5 from
+  // the narrow part's taper): 2 % covers the level-1 polyhedron and the constriction's far field.
+  double mean = 0, volume = 0;
+  const GaussLegendre rule(8);
+  for (int a = 0; a < 8; ++a)
+    for (int b = 0; b < 8; ++b)
+      for (int k = 0; k < 8; ++k) {
+        const Vec3 p(2 * rule.x[a] - 1, 2 * rule.x[b] - 1, 2 * rule.x[k] - 1);
+        if (p.norm() > 1) continue;
+        const double w = rule.w[a] * rule.w[b] * rule.w[k];
+        mean += w * duct_poiseuille_velocity(p.y(), p.z(), 2, 1.0), volume += w;
+      }
+  EXPECT_NEAR(U / (mean / volume), 1, 0.02);
+  EXPECT_GT(d.channel_wall().traction().norm(), 0);  // the empty constriction's own traction
+}
+
 // A loaded capsule disturbs the flow and the wall
 // cancels that disturbance on itself: its traction is then nonzero, from a converged solve.
 TEST(ChannelDynamics, TheWallAnswersALoadedCapsule) {

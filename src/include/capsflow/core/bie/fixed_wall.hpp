@@ -21,6 +21,7 @@
 // alone (the same closed-form and 7-point integrals as the operator's), carries the operator's
 // grid-scale part — what makes a first-kind equation ill-conditioned as h → 0 — and is factored
 // once (sparse LU), so that GMRES sees S M⁻¹ (docs/channel.md §3.2: a third fewer iterations).
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -39,6 +40,10 @@ struct FixedWallOptions {
   SingleLayerOptions layer;  // the wall's single layer (and the double layer's back end and surface)
   GmresOptions gmres{1e-8, 60, 2000, 0};  // relative to ‖right-hand side‖ in the nodal-area norm
   bool precondition = true;  // by the near field's sparse LU (above); false: plain GMRES
+  // The traction's normal part carried with each element's own normal where it differs from the
+  // node's (an edge or a corner of the wall): docs/channel.md §3.6. false: plain P1.
+  bool edge_pressure = true;
+  double edge_angle = 0.1;  // |n_e − n_k| above which a vertex counts as on an edge (about 6°)
 };
 
 struct FixedWallSolve {
@@ -77,6 +82,19 @@ class FixedWall {
 
  private:
   void build_preconditioner();
+  // The single layer of the edge-pressure correction of traction t: on each element with a vertex
+  // on an edge, the P1 density Σ_k φ_k (n_e − n_k)(n_k·t_k). At the wall's own nodes it is linear
+  // in the edge nodes' pressures n_k·t_k, and the wall does not move: edge_at_nodes_ (3N × edge
+  // nodes) is integrated once; at other points (add_edge_pressure) it is integrated each call.
+  void build_edge_pressure();
+  void add_edge_pressure(const Points& t, const Points& targets, Points& u) const;
+  struct EdgeElement {
+    Eigen::Index e;
+    std::array<Vec3, 3> dn;  // n_e − n_k at its vertices k (zero where below edge_angle)
+  };
+  std::vector<EdgeElement> edge_elements_;
+  std::vector<Eigen::Index> edge_nodes_;  // nodes with a nonzero n_e − n_k on some element
+  Eigen::MatrixXd edge_at_nodes_;
   SurfaceMesh mesh_;
   Points velocity_;
   std::vector<Eigen::Index> moving_;  // elements with a non-zero wall velocity at a vertex
