@@ -1,9 +1,11 @@
-// The fixed wall's solve on closed channels at several element sizes (docs/channel.md §3.3):
-//   channel_wall [--sizes 0.3,0.2,0.15,0.1]
+// The fixed wall's solve on closed channels at several element sizes (docs/channel.md §3.3, §3.5):
+//   channel_wall [--sizes 0.3,0.2,0.15,0.1] [--constriction-sizes 0.2,0.14] [--plain-traction]
 // prints, per shape and size, the wall's nodes, GMRES iterations, solve seconds and the error of
 // each case of tests/core/bie/channel_cases.hpp, with the observed order between sizes; then the
 // free rigid sphere on a tube's axis at a/R = 0.3 … 0.8, sphere levels 2 and 3, wall elements R/8
-// and R/12, against Bungay & Brenner's uniformly valid fit (docs/channel.md §3.4).
+// and R/12, against Bungay & Brenner's uniformly valid fit (docs/channel.md §3.4); and the empty
+// constricted duct's flux and narrow profile (§3.5). --plain-traction: without the edges' pressure
+// along each element's normal (FixedWallOptions::edge_pressure), to compare.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
@@ -18,7 +20,21 @@ int main(int argc, char** argv) {
   std::vector<double> sizes{0.3, 0.2, 0.15, 0.1}, ratios{0.3, 0.5, 0.7, 0.8};
   app.add_option("--sizes", sizes, "element sizes (channel radius 1)")->delimiter(',');
   app.add_option("--ratios", ratios, "sphere-to-tube radius ratios of the free sphere")->delimiter(',');
+  std::vector<double> constriction_sizes{0.2, 0.14};
+  app.add_option("--constriction-sizes", constriction_sizes, "element sizes of the constricted duct")->delimiter(',');
+  bool plain = false;
+  app.add_flag("--plain-traction", plain, "the plain P1 traction (no edge pressure along the elements' normals)");
   CLI11_PARSE(app, argc, argv);
+  channel_cases::wall_options.edge_pressure = !plain;
+  std::printf("empty constricted duct (W = 1 narrowed to 0.5 × 0.5 over 3, tapers 0.5, length 9, V = 1, Q = 4)\n"
+              "| h | wall nodes | GMRES iterations | solve s | flux wide | flux narrow | narrow profile error / centreline |\n"
+              "|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const double h : constriction_sizes) {
+    const channel_cases::ConstrictionFlow f = channel_cases::empty_constriction(h);
+    std::printf("| %.2f | %ld | %d | %.1f | %.5f | %.5f | %.2e |\n", h, f.nodes, f.iterations, f.seconds, f.flux_wide,
+                f.flux_narrow, f.profile_error);
+    std::fflush(stdout);
+  }
   struct Case {
     const char* name;
     channel_cases::CaseResult (*run)(ChannelShape, double);

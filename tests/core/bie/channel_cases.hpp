@@ -6,7 +6,9 @@
 //   inside_point_force  — the pressure drop a point force inside adds, against the reciprocal theorem;
 //   free_sphere_on_axis — a rigid sphere carried by Poiseuille's flow in a tube: its velocity;
 //   full_traction_empty_channel — Poiseuille's flow solved for its whole traction (caps carrying the
-//                         profile): the formulation docs/channel.md §3.1 measures and sets aside.
+//                         profile): the formulation docs/channel.md §3.1 measures and sets aside;
+//   empty_constriction  — a constricted duct's flow: the flux through every section, and the narrow
+//                         part's Poiseuille profile (docs/channel.md §3.5).
 #include <chrono>
 #include <cmath>
 
@@ -22,6 +24,9 @@
 #include "capsflow/fmm/stokeslet.hpp"
 
 namespace capsflow::channel_cases {
+
+// The options of every case's wall (a benchmark switches the edges' pressure off to compare).
+inline FixedWallOptions wall_options;
 
 inline Vec3 point_force_flow(const Vec3& x, const Vec3& xs, const Vec3& F) {
   return fmm::Stokeslet::scale() * stokeslet_apply(x - xs, F);
@@ -58,7 +63,7 @@ struct CaseResult {
 // `exact`, divided by `scale`.
 template <class Exact>
 CaseResult interior_error(const SurfaceMesh& wall_mesh, const Points& uw, const Exact& exact, double scale) {
-  FixedWall wall(wall_mesh, uw);
+  FixedWall wall(wall_mesh, uw, wall_options);
   const FixedWallSolve s = wall.solve();
   const Points p = interior_points();
   Points u;
@@ -100,7 +105,7 @@ inline CaseResult inside_point_force(ChannelShape shape, double h) {
   Points induced(n, 3);
   for (Eigen::Index i = 0; i < n; ++i)
     induced.row(i) = -point_force_flow(c.mesh.vertices.row(i).transpose(), xs, F).transpose();
-  FixedWall wall(c.mesh, Points::Zero(n, 3));
+  FixedWall wall(c.mesh, Points::Zero(n, 3), wall_options);
   const FixedWallSolve s = wall.solve(&induced);
   CaseResult r;
   r.iterations = s.iterations, r.converged = s.converged, r.nodes = static_cast<long>(n), r.seconds = s.seconds;
@@ -226,6 +231,60 @@ inline SphereResult free_sphere_on_axis(double ratio, int level, double wall_siz
   const Points wall_traction = Points::Map(v.data() + 3 * ns, nw, 3);
   out.pressure_drop_caps = pressure_drop_from_caps(c, wall_traction) * R;
   out.pressure_drop_reciprocal = -work / channel_cross_section_area(g) * R;
+  return out;
+}
+
+struct ConstrictionFlow {
+  double profile_error = 0;      // largest |u − u_narrow| in the narrow middle, over its centreline velocity
+  double flux_wide = 0, flux_narrow = 0;  // ∫ u_x over a wide and the narrow middle cross-section
+  int iterations = 0;
+  long nodes = 0;
+  double seconds = 0;
+};
+
+// Duct of half-width 1 narrowed to the square of half-width 0.5 over x in [−1.5, 1.5], tapers of
+// 0.5, length 9; mean velocity 1 at the inlet (Q = 4).
+inline ConstrictionFlow empty_constriction(double h) {
+  ChannelGeometry g;
+  g.shape = ChannelShape::ConstrictedDuct, g.radius = 1, g.length = 9, g.element_size = h;
+  g.constriction_height = 0.5, g.constriction_width = 0.5, g.constriction_length = 3, g.constriction_taper = 0.5;
+  const ChannelMesh c = make_channel_mesh(g);
+  auto u_p = [&](const Vec3& p) {
+    return distance_from_axis(g, p.y(), p.z()) >= 1 ? 0.0 : duct_poiseuille_velocity(p.y(), p.z(), 1, 1);
+  };
+  Points uw = Points::Zero(c.mesh.num_nodes(), 3);
+  for (Eigen::Index i = 0; i < uw.rows(); ++i)  // the side only: on the caps the disturbance vanishes
+    if (c.node_region[static_cast<std::size_t>(i)] == ChannelRegion::Side) uw(i, 0) = -u_p(c.mesh.vertices.row(i).transpose());
+  FixedWall wall(c.mesh, uw, wall_options);
+  const FixedWallSolve s = wall.solve(nullptr, 1.0);
+  ConstrictionFlow out;
+  out.iterations = s.iterations, out.seconds = s.seconds;
+  out.nodes = static_cast<long>(c.mesh.num_nodes());
+  // Cross-sections by 10 × 10 Gauss–Legendre points; the profile at the narrow one's.
+  const GaussLegendre rule(10);
+  auto flux = [&](double x, double half, bool check_profile) {
+    Points p(100, 3);
+    for (int a = 0; a < 10; ++a)
+      for (int b = 0; b < 10; ++b) p.row(10 * a + b) << x, half * (2 * rule.x[a] - 1), half * (2 * rule.x[b] - 1);  // the rule is on [0, 1]
+    Points u;
+    wall.velocity_at(p, u);
+    double q = 0;
+    const double narrow_mean = 4 / (4 * half * half), centreline = 2.0962 * narrow_mean;
+    for (int a = 0; a < 10; ++a)
+      for (int b = 0; b < 10; ++b) {
+        const Vec3 pk = p.row(10 * a + b).transpose();
+        const double ux = u(10 * a + b, 0) + u_p(pk);
+        q += 4 * half * half * rule.w[a] * rule.w[b] * ux;
+        if (check_profile) {
+          const Vec3 exact(duct_poiseuille_velocity(pk.y(), pk.z(), half, narrow_mean), 0, 0);
+          const Vec3 got(ux, u(10 * a + b, 1), u(10 * a + b, 2));
+          out.profile_error = std::max(out.profile_error, (got - exact).norm() / centreline);
+        }
+      }
+    return q;
+  };
+  out.flux_wide = flux(-3.25, 1.0, false);
+  out.flux_narrow = flux(0, 0.5, true);
   return out;
 }
 

@@ -28,7 +28,7 @@ TEST(FixedWall, TheFlowOfAnOutsidePointForceIsRecoveredInside) {
 
 // The reciprocal theorem's pressure drop p_in − p_out = −F·u_P(x_s)/Q, read from the caps'
 // traction: measured 0.51 % / 0.23 % (tube) and 0.23 % / 0.10 % (duct) off at h = 0.3 / 0.2 with
-// the traction's pressure carried by each face's normal at the edges (docs/channel.md §3.6; the
+// the traction's pressure carried by each face's normal at the edges (docs/channel.md §3.5; the
 // plain P1 traction is 13.6 % / 5.6 % and 14.6 % / 8.0 % off: the caps' pressure meets the rims).
 // Bounds 1.3× the measured errors; the sign and size of the drop are wrong by 100 % if a jump or a
 // sign is.

@@ -41,7 +41,7 @@ struct FixedWallOptions {
   GmresOptions gmres{1e-8, 60, 2000, 0};  // relative to ‖right-hand side‖ in the nodal-area norm
   bool precondition = true;  // by the near field's sparse LU (above); false: plain GMRES
   // The traction's normal part carried with each element's own normal where it differs from the
-  // node's (an edge or a corner of the wall): docs/channel.md §3.6. false: plain P1.
+  // node's (an edge or a corner of the wall): docs/channel.md §3.5. false: plain P1.
   bool edge_pressure = true;
   double edge_angle = 0.1;  // |n_e − n_k| above which a vertex counts as on an edge (about 6°)
 };
