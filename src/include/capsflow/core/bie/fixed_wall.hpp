@@ -49,8 +49,9 @@ struct FixedWallOptions {
   bool reuse_operator = true;
   // With reuse_operator: the operator stored as one dense matrix where its 72 N² bytes are within
   // this many megabytes (FixedSingleLayer; 0: never). 1000 takes walls up to 3 726 nodes (the
-  // default channel's 2 762: 549 MB), where one iteration was 4–5× faster than the sparse near
-  // field plus the direct far field, and 5× faster than recomputing (docs/channel.md §3.2).
+  // default channel's 2 762: 549 MB), where an iteration measured 4–9× faster than recomputing and
+  // 4–7× faster than the sparse near field with the direct far field (perf/bie/wall_operator,
+  // docs/channel.md §3.2).
   double dense_operator_mb = 1000;
 };
 
