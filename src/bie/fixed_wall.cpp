@@ -1,6 +1,5 @@
 #include "capsflow/core/bie/fixed_wall.hpp"
 
-#include <array>
 #include <chrono>
 #include <vector>
 #include <stdexcept>
@@ -23,6 +22,7 @@ FixedWall::FixedWall(const SurfaceMesh& wall, const Points& velocity, const Fixe
   if (opt.layer.geometry != SurfaceGeometry::Flat)
     throw std::invalid_argument("fixed wall: only flat facets (a wall's edges and corners have no vertex normal to lift by)");
   S_ = std::make_unique<SingleLayer>(wall.triangles, n, opt.layer);
+  if (opt.reuse_operator) op_ = std::make_unique<FixedSingleLayer>(wall, opt.layer, opt.dense_operator_mb);
   area_ = nodal_areas(wall);
   normal_ = nodal_normals(wall);
   total_area_ = area_.sum();
@@ -129,32 +129,7 @@ void FixedWall::add_edge_pressure(const Points& t, const Points& targets, Points
 }
 
 void FixedWall::build_preconditioner() {
-  const Eigen::Index n = mesh_.num_nodes();
-  const Points& x = mesh_.vertices;
-  const Triangles& t = mesh_.triangles;
-  const NearFieldLists& lists = S_->near_field_lists();
-  std::vector<Eigen::Triplet<double>> entries;
-  auto add = [&](Eigen::Index i, int node, const Mat3& block) {
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        entries.emplace_back(static_cast<int>(3 * i + a), 3 * node + b, fmm::Stokeslet::scale() * block(a, b));
-  };
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (const int e : lists.touching(i)) {
-      int first = 0;  // the element written about node i
-      while (t(e, first) != i) ++first;
-      const int v1 = t(e, (first + 1) % 3), v2 = t(e, (first + 2) % 3);
-      const std::array<Mat3, 3> m = singular_element_integral(x.row(i).transpose(), x.row(v1).transpose(), x.row(v2).transpose());
-      add(i, static_cast<int>(i), m[0]), add(i, v1, m[1]), add(i, v2, m[2]);
-    }
-    for (const int e : lists.ring(i)) {
-      const std::array<Mat3, 3> m = refined_element_integral(x.row(i).transpose(), x.row(t(e, 0)).transpose(),
-                                                             x.row(t(e, 1)).transpose(), x.row(t(e, 2)).transpose(), 0);
-      for (int k = 0; k < 3; ++k) add(i, t(e, k), m[static_cast<std::size_t>(k)]);
-    }
-  }
-  near_.resize(3 * n, 3 * n);
-  near_.setFromTriplets(entries.begin(), entries.end());
+  near_ = near_field_matrix(mesh_.vertices, mesh_.triangles, S_->near_field_lists(), 0, nullptr, layer_threads(opt_.layer));
   near_.makeCompressed();
   near_lu_.analyzePattern(near_);
   near_lu_.factorize(near_);
@@ -167,6 +142,19 @@ double FixedWall::preconditioner_megabytes() const {
   if (!preconditioned_) return 0;
   const double nonzeros = static_cast<double>(near_.nonZeros() + near_lu_.nnzL() + near_lu_.nnzU());
   return nonzeros * (sizeof(double) + sizeof(int)) / 1e6;
+}
+
+void FixedWall::apply(const Points& f, Points& Sf) {
+  if (op_)
+    op_->apply(f, Sf);
+  else
+    S_->apply(mesh_.vertices, f, Sf);
+  if (!edge_nodes_.empty()) {  // the edge nodes' pressures through the integrated columns (§3.5)
+    Eigen::VectorXd p(static_cast<Eigen::Index>(edge_nodes_.size()));
+    for (std::size_t c = 0; c < edge_nodes_.size(); ++c)
+      p[static_cast<Eigen::Index>(c)] = normal_.row(edge_nodes_[c]).dot(f.row(edge_nodes_[c]));
+    flat(Sf) += edge_at_nodes_ * p;
+  }
 }
 
 FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
@@ -183,13 +171,7 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
     } else {
       flat(f) = v;
     }
-    S_->apply(mesh_.vertices, f, Sf);
-    if (!edge_nodes_.empty()) {  // the edge nodes' pressures through the integrated columns
-      Eigen::VectorXd p(static_cast<Eigen::Index>(edge_nodes_.size()));
-      for (std::size_t c = 0; c < edge_nodes_.size(); ++c)
-        p[static_cast<Eigen::Index>(c)] = normal_.row(edge_nodes_[c]).dot(f.row(edge_nodes_[c]));
-      flat(Sf) += edge_at_nodes_ * p;
-    }
+    this->apply(f, Sf);  // the member, not this lambda
     double nf = 0;
     for (Eigen::Index i = 0; i < n; ++i) nf += area_[i] * normal_.row(i).dot(f.row(i));
     for (Eigen::Index i = 0; i < n; ++i) Sf.row(i) += (nf / total_area_) * normal_.row(i);

@@ -58,10 +58,22 @@ void check_channel(const TomlReader& r, const Scene& s) {
   if (s.channel.active() && !poiseuille) r.fail("flow", "type", "must be \"poiseuille\" with a [channel]");
   if (!s.channel.active() && poiseuille)
     r.fail("channel", "shape", "a Poiseuille flow needs a channel: set channel.shape to \"tube\", \"square_duct\" or \"constricted_duct\"");
-  if (s.channel.shape != ChannelKind::ConstrictedDuct)
-    for (const char* key : {"constriction_height", "constriction_width", "constriction_length", "constriction_center",
-                            "constriction_taper"})
-      if (r.has("channel", key)) r.fail("channel", key, "is a constricted duct's: set channel.shape = \"constricted_duct\"");
+  if (s.channel.shape != ChannelKind::ConstrictedDuct) {
+    // A constriction's key set away from its default with another shape (a stored scene writes every
+    // key with its default: accepted).
+    const ChannelSpec d;
+    const ChannelSpec& c = s.channel;
+    const std::pair<const char*, bool> keys[] = {
+        {"constriction_height", c.constriction_height != d.constriction_height},
+        {"constriction_width", c.constriction_width != d.constriction_width},
+        {"constriction_length", c.constriction_length != d.constriction_length},
+        {"constriction_center", c.constriction_center != d.constriction_center},
+        {"constriction_taper", c.constriction_taper_auto != d.constriction_taper_auto ||
+                                   (!c.constriction_taper_auto && c.constriction_taper != d.constriction_taper)}};
+    for (const auto& [key, changed] : keys)
+      if (r.has("channel", key) && changed)
+        r.fail("channel", key, "is a constricted duct's: set channel.shape = \"constricted_duct\"");
+  }
   if (!s.channel.active()) return;
   if (s.capsule_centers().size() > 1)
     r.fail("channel", "shape", "holds one capsule: several capsules in a channel are not implemented");

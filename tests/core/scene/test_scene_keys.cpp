@@ -144,7 +144,9 @@ checkpoint_every = 0
   // ... and the sections of several capsules, with their defaults (one capsule, no repulsion).
   expected += "\n[layout]\ncount = 1\ndx = 0\ndy = 0\ndz = 0\n\n[contact]\nrepulsion_range = 0\nrepulsion_strength = 1\nmin_gap = 0.05\n";
   // ... and the channel's, with its defaults (none: unbounded flow).
-  expected += "\n[channel]\nshape = \"none\"\nradius = 1.25\nlength = 10\nelement_size = \"auto\"\n";
+  expected += "\n[channel]\nshape = \"none\"\nradius = 1.25\nlength = 10\nelement_size = \"auto\"\n"
+              "constriction_height = 0.5\nconstriction_width = 1\nconstriction_length = 1\nconstriction_center = 2\n"
+              "constriction_taper = \"auto\"\n";
   EXPECT_EQ(to_toml(parse_scene(stored, "checkpoint")), expected);
 }
 

@@ -21,6 +21,9 @@
 // alone (the same closed-form and 7-point integrals as the operator's), carries the operator's
 // grid-scale part — what makes a first-kind equation ill-conditioned as h → 0 — and is factored
 // once (sparse LU), so that GMRES sees S M⁻¹ (docs/channel.md §3.2: a third fewer iterations).
+// The wall does not move, so its operator S is set up once as well (fixed_single_layer.hpp: the
+// whole near field one sparse matrix, the far field on fixed sources): an iteration is a sparse
+// LU solve, a sparse mat-vec and a far-field pass (docs/channel.md §3.2 for its cost).
 #include <array>
 #include <memory>
 #include <vector>
@@ -29,6 +32,7 @@
 #include <Eigen/SparseLU>
 
 #include "capsflow/core/bie/double_layer.hpp"
+#include "capsflow/core/bie/fixed_single_layer.hpp"
 #include "capsflow/core/bie/gmres.hpp"
 #include "capsflow/core/bie/off_surface.hpp"
 #include "capsflow/core/bie/single_layer.hpp"
@@ -44,6 +48,16 @@ struct FixedWallOptions {
   // node's (an edge or a corner of the wall): docs/channel.md §3.5. false: plain P1.
   bool edge_pressure = true;
   double edge_angle = 0.1;  // |n_e − n_k| above which a vertex counts as on an edge (about 6°)
+  // S set up once (FixedSingleLayer); false: SingleLayer::apply recomputes the sources, the near
+  // field and the far field's set-up at every iteration (the same operator; kept to measure
+  // against, perf/bie/wall_operator).
+  bool reuse_operator = true;
+  // With reuse_operator: the operator stored as one dense matrix where its 72 N² bytes are within
+  // this many megabytes (FixedSingleLayer; 0: never). 1000 takes walls up to 3 726 nodes (the
+  // default channel's 2 762: 549 MB), where an iteration measured 4–9× faster than recomputing and
+  // 4–7× faster than the sparse near field with the direct far field (perf/bie/wall_operator,
+  // docs/channel.md §3.2).
+  double dense_operator_mb = 1000;
 };
 
 struct FixedWallSolve {
@@ -71,6 +85,9 @@ class FixedWall {
   // off_surface.hpp; the double layer by adaptive quadrature on the elements where u_w ≠ 0).
   void velocity_at(const Points& targets, Points& u, OffSurfaceReport* report = nullptr);
 
+  // Sf = S[f] at the wall's nodes, by the operator the options chose (no rank-one term).
+  void apply(const Points& f, Points& Sf);
+
   const SurfaceMesh& mesh() const { return mesh_; }
   const Points& velocity() const { return velocity_; }
   const Eigen::VectorXd& nodal_area() const { return area_; }
@@ -79,6 +96,9 @@ class FixedWall {
   // The preconditioner's memory: the near field's blocks and its LU factors, a double and an index
   // per nonzero.
   double preconditioner_megabytes() const;
+  // The operator set up once (FixedSingleLayer::megabytes); 0 with reuse_operator false.
+  double operator_megabytes() const { return op_ ? op_->megabytes() : 0.0; }
+  const FixedSingleLayer* fixed_operator() const { return op_.get(); }
 
  private:
   void build_preconditioner();
@@ -99,7 +119,8 @@ class FixedWall {
   Points velocity_;
   std::vector<Eigen::Index> moving_;  // elements with a non-zero wall velocity at a vertex
   FixedWallOptions opt_;
-  std::unique_ptr<SingleLayer> S_;
+  std::unique_ptr<SingleLayer> S_;          // velocity_at's (and the iterations' without reuse_operator)
+  std::unique_ptr<FixedSingleLayer> op_;    // the iterations' with reuse_operator
   Points rhs0_;       // ½ u_w − D_h[u_w]
   Points traction_;
   Eigen::VectorXd area_, weight_;  // nodal areas; per unknown (3 per node)
