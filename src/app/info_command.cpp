@@ -53,13 +53,13 @@ int info_command(const InfoOptions& opt) {
   if (info.contains("channel")) {
     const nlohmann::json& c = info["channel"];
     fmt::print("channel         {} of radius {:g} and length {:g}; wall of {} elements, {} nodes (element size {:.4g}{}); its "
-               "solve: GMRES preconditioned by its near field ({:.1f} MB), its operator set up once ({}, {:.1f} MB), "
-               "{:.3g} s per iteration, about 10 per evaluation (docs/channel.md)\n",
+               "solve: GMRES preconditioned by its near field ({:.1f} MB), its operator set up once ({}, {:.1f} MB; "
+               "the edges' pressure {:.1f} MB), {:.3g} s per iteration, about 10 per evaluation (docs/channel.md)\n",
                c["shape"].get<std::string>(), c["radius"].get<double>(), c["length"].get<double>(),
                c["wall_elements"].get<long>(), c["wall_nodes"].get<long>(), c["element_size"].get<double>(),
                c["element_size_auto"].get<bool>() ? ", auto" : "", c["preconditioner_mb"].get<double>(),
                c["operator_dense"].get<bool>() ? "dense" : "sparse near field", c["operator_mb"].get<double>(),
-               c["seconds_per_wall_iteration"].get<double>());
+               c["edge_pressure_mb"].get<double>(), c["seconds_per_wall_iteration"].get<double>());
   }
   fmt::print("\n# run\n");
   const nlohmann::json& r = info["run"];

@@ -99,6 +99,7 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
                        {"wall_nodes", wall.mesh.num_nodes()}, {"wall_elements", wall.mesh.num_elements()},
                        {"preconditioner_mb", fixed.preconditioner_megabytes()},
                        {"operator_mb", fixed.operator_megabytes()},
+                       {"edge_pressure_mb", fixed.edge_pressure_megabytes()},
                        {"operator_dense", fixed.fixed_operator() && fixed.fixed_operator()->dense()},
                        {"seconds_per_wall_iteration", clock.seconds()}};
   }
@@ -223,11 +224,13 @@ nlohmann::json scene_info(const Scene& scene, bool probe) {
   // 693, 2 762 and 5 169 wall nodes (17, 101 and 215 MB above the capsule alone: within 8 %), plus
   // the wall's operator where it is dense (up to 3 726 nodes). Measured with it (docs/channel.md
   // §5): 71, 652 and 232 MB against 70, 665 and 248 MB estimated; the sparse form's 35 MB at
-  // 5 169 nodes did not show in the peak (237 MB before the operator was stored), so it is not counted.
+  // 5 169 nodes did not show in the peak (237 MB before the operator was stored), so it is not counted;
+  // plus the edges' pressure columns (docs/channel.md §3.5; a tube's are its rims', 6 MB at 2 762 nodes).
   double wall_mb = 0;
   if (channel) {
     const nlohmann::json& w = info["channel"];
-    wall_mb = 1.5 * w["preconditioner_mb"].get<double>() + 4 + (w["operator_dense"].get<bool>() ? w["operator_mb"].get<double>() : 0.0);
+    wall_mb = 1.5 * w["preconditioner_mb"].get<double>() + 4 + (w["operator_dense"].get<bool>() ? w["operator_mb"].get<double>() : 0.0) +
+              w["edge_pressure_mb"].get<double>();
   }
   run["memory_mb"] = memory.total_mb() + wall_mb;
   run["memory_double_layer_mb"] = memory.double_layer_mb;

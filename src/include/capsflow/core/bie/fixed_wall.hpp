@@ -96,6 +96,8 @@ class FixedWall {
   // The preconditioner's memory: the near field's blocks and its LU factors, a double and an index
   // per nonzero.
   double preconditioner_megabytes() const;
+  // The edges' pressure columns at the wall's nodes (§3.5): 3N × (edge nodes) doubles.
+  double edge_pressure_megabytes() const { return static_cast<double>(edge_at_nodes_.size()) * sizeof(double) / 1e6; }
   // The operator set up once (FixedSingleLayer::megabytes); 0 with reuse_operator false.
   double operator_megabytes() const { return op_ ? op_->megabytes() : 0.0; }
   const FixedSingleLayer* fixed_operator() const { return op_.get(); }
