@@ -198,6 +198,11 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
   return out;
 }
 
+void FixedWall::single_layer_at(const Points& traction, const Points& targets, Points& u) {
+  evaluate_off_surface(*S_, mesh_.vertices, traction, targets, u, nullptr);
+  add_edge_pressure(traction, targets, u);
+}
+
 void FixedWall::velocity_at(const Points& targets, Points& u, OffSurfaceReport* report) {
   evaluate_off_surface(*S_, mesh_.vertices, traction_, targets, u, report);
   add_edge_pressure(traction_, targets, u);

@@ -41,6 +41,7 @@ ChannelDynamics::ChannelDynamics(const Scene& scene, const SurfaceMesh& referenc
       throw SolverFailure(fmt::format("channel wall GMRES did not converge on the empty constriction (relative residual {:.1e})",
                                       empty.residual));
     empty_pressure_drop_ = capsflow::pressure_drop_from_caps(mesh_, channel_wall_->traction());
+    empty_traction_ = channel_wall_->traction();
   }
 }
 
@@ -109,10 +110,15 @@ void ChannelDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
     v(i, 0) += up;
     work += area[i] * q(i, 0) * up;
   }
-  // Δp⁺: by the reciprocal theorem with the undisturbed flow, which is Poiseuille's in a straight
-  // channel; in a constriction it is not, and the caps' pressure over that of the empty one is used.
-  pressure_drop_ = g.straight() ? work / (channel_.mean_velocity * channel_cross_section_area(g))
-                                : pressure_drop_from_caps() - empty_pressure_drop_;
+  if (!g.straight()) {
+    // The undisturbed flow is not u_P in a constriction but u_P + S_W[f₀] + D[u_w], f₀ the empty
+    // constriction's traction: from_wall_ holds S_W[f] + D[u_w], so the undisturbed flow's
+    // difference from u_P is from_wall_ − S_W[f − f₀].
+    channel_wall_->single_layer_at(channel_wall_->traction() - empty_traction_, x, extra_);
+    for (Eigen::Index i = 0; i < x.rows(); ++i) work += area[i] * q.row(i).dot(from_wall_.row(i) - extra_.row(i));
+  }
+  // Δp⁺ by the reciprocal theorem with the undisturbed flow (docs/channel.md §4).
+  pressure_drop_ = work / (channel_.mean_velocity * channel_cross_section_area(g));
   if (volume_correction_) {
     volume_gradient(x, tri_, area_normal_);
     remove_normal_flux(area_normal_, v);

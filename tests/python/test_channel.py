@@ -44,7 +44,10 @@ def test_scene_keys_round_trip(tmp_path):
     path.write_text(SCENE, encoding="utf-8")
     scene = capsflow.Scene(path)
     channel = scene.to_dict()["channel"]
-    assert channel == {"shape": "tube", "radius": 1.6, "length": 9.0, "element_size": 0.4}
+    assert channel == {"shape": "tube", "radius": 1.6, "length": 9.0, "element_size": 0.4,
+                       # a constriction's keys, at their defaults (unused by a tube)
+                       "constriction_height": 0.5, "constriction_width": 1.0, "constriction_length": 1.0,
+                       "constriction_center": 2.0, "constriction_taper": "auto"}
     assert scene.copy().set("channel.radius", 2.0).get("channel.radius") == 2.0
     wall = scene.info()["channel"]  # the wall as the run builds it
     assert wall["wall_nodes"] > 0 and wall["element_size"] == 0.4

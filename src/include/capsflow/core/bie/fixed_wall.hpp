@@ -84,6 +84,9 @@ class FixedWall {
   // u at points inside the wall: S[f] + D[u_w] (the single layer with the near-surface check of
   // off_surface.hpp; the double layer by adaptive quadrature on the elements where u_w ≠ 0).
   void velocity_at(const Points& targets, Points& u, OffSurfaceReport* report = nullptr);
+  // S_W[traction] alone (with the edges' pressure) at points inside the wall, for a traction other
+  // than the solved one (e.g. a difference of two solves).
+  void single_layer_at(const Points& traction, const Points& targets, Points& u);
 
   // Sf = S[f] at the wall's nodes, by the operator the options chose (no rank-one term).
   void apply(const Points& f, Points& Sf);

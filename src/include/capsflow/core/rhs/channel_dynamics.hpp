@@ -80,8 +80,8 @@ class ChannelDynamics final : public CapsulesDynamics {
   // reciprocal theorem with Poiseuille's flow (docs/channel.md §4): Q Δp⁺ = ∫_C q·u_P dS, Q the
   // flux; and the same read from the wall's traction (the free pressure_drop_from_caps below) — a
   // check through the wall's solve, with the caps' O(h) error; less the empty channel's, which is
-  // not zero in a constriction. In a constriction, whose undisturbed flow is not u_P, Δp⁺ is the
-  // latter.
+  // not zero in a constriction. In a constriction the undisturbed flow of the reciprocal theorem
+  // is the empty constriction's, u_P + S_W[f₀] + D[u_w].
   double pressure_drop() const { return pressure_drop_; }
   double pressure_drop_from_caps() const;
 
@@ -97,6 +97,7 @@ class ChannelDynamics final : public CapsulesDynamics {
   FixedWallSolve last_solve_;
   double axial_velocity_ = 0, wall_gap_ = 0, pressure_drop_ = 0;
   double empty_pressure_drop_ = 0;  // the caps' pressure drop without a capsule (constriction)
+  Points empty_traction_, extra_;   // the empty constriction's traction; scratch
   long wall_gmres_iterations_ = 0;
   PhaseTimes times_;
   RhsCounters counters_;
