@@ -204,6 +204,8 @@ std::optional<StopReason> Simulation::Impl::observe_health() {
   };
   if (capsules() == 1) {
     for (const HealthEvent& e : watch[0].health->observe(st.t, st.x, effort)) report(e, "");
+    if (wall_gap)
+      if (const std::optional<HealthEvent> e = wall_gap->observe(st.t, channel->wall_gap())) report(*e, "");
   } else {
     // The counters sum every capsule's inner solves: each capsule is given their mean.
     const double share = 1.0 / capsules();

@@ -32,8 +32,12 @@ double peak_rss_mb() {
 
 namespace {
 // The progress line's health: one capsule's status, or "ok" and each ailing capsule's ("c2 folds").
-std::string health_status(const std::vector<CapsuleWatch>& watch, const SurfaceGapWatch* gap) {
-  if (watch.size() == 1) return watch[0].health->status();
+std::string health_status(const std::vector<CapsuleWatch>& watch, const SurfaceGapWatch* gap, const WallGapWatch* wall_gap) {
+  if (watch.size() == 1) {
+    const std::string one = watch[0].health->status();
+    if (!wall_gap || !wall_gap->active()) return one;
+    return one == "ok" ? "surface_gap" : one + ", surface_gap";
+  }
   std::string s;
   for (std::size_t k = 0; k < watch.size(); ++k)
     if (const std::string one = watch[k].health->status(); one != "ok") s += fmt::format("{}c{} {}", s.empty() ? "" : ", ", k + 1, one);
@@ -53,7 +57,7 @@ void Simulation::Impl::report_progress(bool force) {
   const double done = st.t - t_segment_start;
   const double eta = done > 0 ? seg * (t_end - st.t) / done : NAN;
   const double drift = enclosed_volume(SurfaceMesh{st.x, ref.triangles}) / st.volume0 - 1;
-  const std::string status = health_status(watch, gap.get());
+  const std::string status = health_status(watch, gap.get(), wall_gap.get());
   spdlog::info("step {:>7}  t {:.4f}/{:g} ({:5.1f}%)  dt {:.2e}  {} rej {:>3}  evals {:>7} ({:.1f} ms)  ETA {}  dV/V {:+.1e}  steady {:.1e} (tol {:.0e})  health {}",
                st.step, st.t, t_end, 100 * st.t / t_end, st.dt, stepper->status(), st.rejected_steps, rhs_evaluations(),
                1e3 * per_eval, hms(eta), drift, steady->measure(), scene.time.steady_tol, status);
@@ -191,7 +195,8 @@ nlohmann::json Simulation::Impl::summary() const {
                           {"pressure_drop", channel->pressure_drop()},
                           {"pressure_drop_caps", channel->pressure_drop_from_caps()},
                           {"wall_gap", channel->wall_gap()},
-                          {"wall_gmres_iterations", channel->wall_gmres_iterations()}};
+                          {"wall_gmres_iterations", channel->wall_gmres_iterations()},
+                          {"closest_approach", wall_gap->summary()}};
   }
   if (far_check->enabled()) summary[far_check->name()] = far_check->summary(dyn->single_layer());
   if (dl_far_check->enabled())

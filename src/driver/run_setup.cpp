@@ -126,9 +126,11 @@ void Simulation::Impl::make_parts() {
   suspension = nullptr;
   channel = nullptr;
   gap.reset();
+  wall_gap.reset();
   if (scene.channel.active()) {
     auto in_channel = std::make_unique<ChannelDynamics>(scene.capsule_scene(0), ref, channel_flow_of(scene, ref), threads);
     channel = in_channel.get();
+    wall_gap = std::make_unique<WallGapWatch>(scene.contact.min_gap);
     dyn = std::move(in_channel);
   } else if (capsules() == 1) {
     dyn = std::make_unique<CapsuleDynamics>(scene.capsule_scene(0), ref, threads);

@@ -27,6 +27,7 @@
 #include "capsflow/core/phase_times.hpp"
 #include "capsflow/core/geometry/surface_set.hpp"
 #include "capsflow/core/health/surface_gap_watch.hpp"
+#include "capsflow/core/health/wall_gap_watch.hpp"
 #include "capsflow/core/rhs/capsules_dynamics.hpp"
 #include "capsflow/core/rhs/channel_dynamics.hpp"
 #include "capsflow/core/rhs/suspension_dynamics.hpp"
@@ -174,6 +175,7 @@ struct Simulation::Impl {
   std::unique_ptr<SteadyStateDetector> steady;
   std::vector<CapsuleWatch> watch;         // one per capsule
   std::unique_ptr<SurfaceGapWatch> gap;    // several capsules: the closest approach
+  std::unique_ptr<WallGapWatch> wall_gap;  // in a channel: the capsule's closest approach to the wall
   InstabilityWatch instability;            // geometric growth of the volume drift: a blow-up at its start
   std::unique_ptr<FarFieldWatch> far_check;  // fluid.verify_every: the single layer's far field
   std::unique_ptr<FarFieldWatch> dl_far_check;  // ... and the double layer's (λ ≠ 1; disabled otherwise)

@@ -364,8 +364,8 @@ const Section<ContactSpec>& contact_keys() {
               "nodal force of the repulsion at zero gap, in μγ̇ℓ²"),
        number("min_gap", &ContactSpec::min_gap, 0.05,
               at_least(0.0).because("element sizes"),
-              "several capsules: the `surface_gap` health condition begins when the smallest gap between two capsules "
-              "falls below this many element sizes (the near-singular quadrature is measured down to 0.05, "
+              "several capsules, or a capsule in a channel: the `surface_gap` health condition begins when the "
+              "smallest gap between two capsules (or a capsule and the channel's wall) falls below this many element sizes (the near-singular quadrature is measured down to 0.05, "
               "`docs/boundary-integral.md` §4.9); with `time.stop_on = [\"surface_gap\"]` the run stops there")}};
   return s;
 }

@@ -163,5 +163,26 @@ TEST(ChannelRun, WritesTheCapsulesSpeedThroughTheChannelAndItsLabPosition) {
   fs::remove_all(dir);
 }
 
+TEST(ChannelRun, ACapsuleCloserToTheWallThanContactMinGapStopsTheRunUnderStopOn) {
+  // The tiny tube's capsule starts 0.6 from the wall, 0.94 of the nearest wall element's longest
+  // edge: a min_gap of 3 element sizes begins the surface_gap condition at once; with stop_on the
+  // run stops there, naming it (exit 3), and summary.json keeps the closest approach.
+  const fs::path dir = fs::temp_directory_path() / ("capsflow-channel-gap-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  RunOptions o;
+  o.scene = tube_scene({"contact.min_gap=3", "time.stop_on=[\"surface_gap\"]"});
+  o.output_dir = dir.string();
+  o.threads = 1;
+  EXPECT_EQ(Simulation(o).run(), 3);
+  std::ifstream f(dir / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(f);
+  EXPECT_EQ(s.at("stop_reason"), "surface_gap");
+  const nlohmann::json& c = s.at("channel").at("closest_approach");
+  EXPECT_EQ(c.at("episodes"), 1);
+  EXPECT_LT(c.at("min_gap").get<double>(), 3.0);
+  EXPECT_GT(c.at("min_gap").get<double>(), 0.5);  // 0.94 of the longest wall edge at the start
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace capsflow

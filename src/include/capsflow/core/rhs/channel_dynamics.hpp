@@ -24,6 +24,7 @@
 // Throws SolverFailure when a node leaves the channel's cross-section or comes within 1e-3
 // element sizes of the wall (off_surface.hpp's too-close limit), the wall's solve does not
 // converge, or (lab frame) the capsule comes within a channel radius of the outlet cap.
+#include <limits>
 #include <memory>
 
 #include "capsflow/core/bie/fixed_wall.hpp"
@@ -95,7 +96,8 @@ class ChannelDynamics final : public CapsulesDynamics {
   std::unique_ptr<FixedWall> channel_wall_;
   Points u_, induced_, from_wall_, area_normal_;  // scratch
   FixedWallSolve last_solve_;
-  double axial_velocity_ = 0, wall_gap_ = 0, pressure_drop_ = 0;
+  double axial_velocity_ = 0, pressure_drop_ = 0;
+  double wall_gap_ = std::numeric_limits<double>::infinity();  // none before the first evaluation
   double empty_pressure_drop_ = 0;  // the caps' pressure drop without a capsule (constriction)
   Points empty_traction_, extra_;   // the empty constriction's traction; scratch
   long wall_gmres_iterations_ = 0;
