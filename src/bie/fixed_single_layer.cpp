@@ -59,10 +59,6 @@ void add_rule_point(BlockRow& row, const Vec3& xi, const Triangles& t, Eigen::In
   for (int k = 0; k < 3; ++k) row.add(t(e, k), l[k] * G);
 }
 
-QuadraticTriangle flat_element(const Points& x, const Triangles& t, Eigen::Index e) {
-  return QuadraticTriangle::flat(x.row(t(e, 0)).transpose(), x.row(t(e, 1)).transpose(), x.row(t(e, 2)).transpose());
-}
-
 }  // namespace
 
 SparseRows near_field_matrix(const Points& x, const Triangles& t, const NearFieldLists& lists, int ring_depth,

@@ -90,8 +90,7 @@ void FixedWall::build_edge_pressure() {
         flow[static_cast<std::size_t>(a)] = m[1] * edge.dn[static_cast<std::size_t>(a)];
         flow[static_cast<std::size_t>(b)] = m[2] * edge.dn[static_cast<std::size_t>(b)];
       } else {
-        const QuadraticTriangle T = QuadraticTriangle::flat(x.row(tri(edge.e, 0)).transpose(), x.row(tri(edge.e, 1)).transpose(),
-                                                            x.row(tri(edge.e, 2)).transpose());
+        const QuadraticTriangle T = flat_element(x, tri, edge.e);
         const Vec3 zero = Vec3::Zero();
         flow[0] = adaptive_element_apply(p, T, edge.dn[0], zero, zero);
         flow[1] = adaptive_element_apply(p, T, zero, edge.dn[1], zero);
@@ -120,9 +119,7 @@ void FixedWall::add_edge_pressure(const Points& t, const Points& targets, Points
         const Eigen::Index node = tri(edge.e, k);
         c[static_cast<std::size_t>(k)] = edge.dn[static_cast<std::size_t>(k)] * normal_.row(node).dot(t.row(node));
       }
-      const QuadraticTriangle T = QuadraticTriangle::flat(x.row(tri(edge.e, 0)).transpose(), x.row(tri(edge.e, 1)).transpose(),
-                                                          x.row(tri(edge.e, 2)).transpose());
-      sum += adaptive_element_apply(p, T, c[0], c[1], c[2]);
+      sum += adaptive_element_apply(p, flat_element(x, tri, edge.e), c[0], c[1], c[2]);
     }
     u.row(i) += fmm::Stokeslet::scale() * sum.transpose();
   }
@@ -198,14 +195,13 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
   return out;
 }
 
-void FixedWall::single_layer_at(const Points& traction, const Points& targets, Points& u) {
-  evaluate_off_surface(*S_, mesh_.vertices, traction, targets, u, nullptr);
+void FixedWall::single_layer_at(const Points& traction, const Points& targets, Points& u, OffSurfaceReport* report) {
+  evaluate_off_surface(*S_, mesh_.vertices, traction, targets, u, report);
   add_edge_pressure(traction, targets, u);
 }
 
 void FixedWall::velocity_at(const Points& targets, Points& u, OffSurfaceReport* report) {
-  evaluate_off_surface(*S_, mesh_.vertices, traction_, targets, u, report);
-  add_edge_pressure(traction_, targets, u);
+  single_layer_at(traction_, targets, u, report);
   if (moving_.empty()) return;
   const Triangles& t = mesh_.triangles;
   const Points& x = mesh_.vertices;
@@ -214,9 +210,7 @@ void FixedWall::velocity_at(const Points& targets, Points& u, OffSurfaceReport* 
     const Vec3 p = targets.row(k).transpose();
     Vec3 d = Vec3::Zero();
     for (const Eigen::Index e : moving_) {
-      const QuadraticTriangle T = QuadraticTriangle::flat(x.row(t(e, 0)).transpose(), x.row(t(e, 1)).transpose(),
-                                                          x.row(t(e, 2)).transpose());
-      d += adaptive_element_double_layer(p, T, velocity_.row(t(e, 0)).transpose(), velocity_.row(t(e, 1)).transpose(),
+      d += adaptive_element_double_layer(p, flat_element(x, t, e), velocity_.row(t(e, 0)).transpose(), velocity_.row(t(e, 1)).transpose(),
                                          velocity_.row(t(e, 2)).transpose());
     }
     u.row(k) += fmm::Stokeslet::scale() * d.transpose();

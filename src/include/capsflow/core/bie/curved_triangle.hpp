@@ -69,4 +69,9 @@ struct QuadraticTriangle {
   }
 };
 
+// Element e of the surface (x, t) as its flat facet.
+inline QuadraticTriangle flat_element(const Points& x, const Triangles& t, Eigen::Index e) {
+  return QuadraticTriangle::flat(x.row(t(e, 0)).transpose(), x.row(t(e, 1)).transpose(), x.row(t(e, 2)).transpose());
+}
+
 }  // namespace capsflow

@@ -86,7 +86,7 @@ class FixedWall {
   void velocity_at(const Points& targets, Points& u, OffSurfaceReport* report = nullptr);
   // S_W[traction] alone (with the edges' pressure) at points inside the wall, for a traction other
   // than the solved one (e.g. a difference of two solves).
-  void single_layer_at(const Points& traction, const Points& targets, Points& u);
+  void single_layer_at(const Points& traction, const Points& targets, Points& u, OffSurfaceReport* report = nullptr);
 
   // Sf = S[f] at the wall's nodes, by the operator the options chose (no rank-one term).
   void apply(const Points& f, Points& Sf);
