@@ -3,7 +3,7 @@
 //   fmm_bench --dist sphere|spheroid|cube|clustered --n 100000 [--ntrg M] [--tol 1e-6 | --order p]
 //             [--leaf L] [--threads T] [--reps 3] [--sample 1000]
 //             [--kernel stokeslet|stresslet|laplace[,...]] [--cache-dir DIR] [--seed S] [--densities K]
-//             [--density random|surface|surface-random]
+//             [--density random|surface|surface-random] [--single-pairs]
 //   fmm_bench --input points.txt [--output velocities.txt] [--tol ..] ...
 //
 // Prints one JSON line per run with: dist, n (sources), ntrg, tol, order, leaf, threads,
@@ -23,6 +23,7 @@
 // density is 6 random components per source (f then n, stresslet.hpp); --density surface (the
 // stresslet on --dist sphere|spheroid) gives it a smooth double layer instead, n the outward
 // normal and f = w·u(y) (tests/fmm/points.hpp, surface_double_layer), as the boundary integral uses it;
+// --single-pairs: the near field's pairs in single precision (FmmOptions::single_precision_pairs).
 // --density surface-random keeps the outward normals with random f (random_surface_double_layer).
 //
 // File format of --input (text): first line "n_src n_trg"; then n_src lines "x y z f1 f2 f3"
@@ -59,6 +60,7 @@ struct Args {
   std::size_t n = 10000, ntrg = 0;
   double tol = 1e-6;
   int order = 0, leaf = 0, threads = 0, reps = 3, sample = 1000, densities = 1;
+  bool single_pairs = false;
   unsigned seed = 1;
 };
 
@@ -100,6 +102,7 @@ int run(const Args& a) {
   const std::size_t ns = src.size() / 3, nt = trg.size() / 3;
   FmmOptions o;
   o.tolerance = a.tol; o.order = a.order; o.leaf_size = a.leaf; o.threads = a.threads; o.cache_dir = a.cache_dir;
+  o.single_precision_pairs = a.single_pairs;
   double t = now();
   Fmm<Kernel> fmm(o);
   const double ops_s = now() - t;
@@ -164,7 +167,7 @@ int run(const Args& a) {
               "\"ops_s\":%.3f,\"ops_cached\":%s,\"levels\":%d,\"nv\":%zu,\"nodes\":%zu,\"leaves\":%zu,"
               "\"phases\":{\"p2p\":%.4f,\"m2l\":%.4f,\"p2m\":%.4f,\"m2m\":%.4f,\"l2l\":%.4f,\"l2p\":%.4f,\"x\":%.4f,\"other\":%.4f,\"m2l_fft\":%.4f,\"m2l_hadamard\":%.4f},"
               "\"densities\":%d,\"eval_seq_s\":%.4f,\"multi_speedup\":%.3f,\"multi_vs_single\":%.2e,"
-              "\"isa\":\"%s\"}\n",
+              "\"single_pairs\":%s,\"isa\":\"%s\"}\n",
               Kernel::name, a.input.empty() ? a.density.c_str() : "file", a.input.empty() ? a.dist.c_str() : "file", ns, nt, same ? "true" : "false",
               a.tol, fmm.order(), fmm.leaf_size(), fmm.threads(), median(setup_t), median(eval_t),
               den > 0 ? std::sqrt(num / den) : 0.0, maxref > 0 ? maxerr / maxref : 0.0, direct_s,
@@ -173,7 +176,7 @@ int run(const Args& a) {
               fmm.tree().nodes.size(), fmm.tree().leaves.size(), tm.p2p, tm.m2l, tm.p2m, tm.m2m,
               tm.l2l, tm.l2p, tm.x_list, tm.other, tm.m2l_fft, tm.m2l_hadamard, K, median(seq_t),
               K > 1 && median(eval_t) > 0 ? median(seq_t) / median(eval_t) : 1.0,
-              mv_den > 0 ? std::sqrt(mv_num / mv_den) : 0.0, simd::isa_name());
+              mv_den > 0 ? std::sqrt(mv_num / mv_den) : 0.0, a.single_pairs ? "true" : "false", simd::isa_name());
   std::fflush(stdout);
   return 0;
 }
@@ -203,6 +206,7 @@ int main(int argc, char** argv) {
     else if (k == "--cache-dir") a.cache_dir = val();
     else if (k == "--densities") a.densities = std::stoi(val());
     else if (k == "--density") a.density = val();
+    else if (k == "--single-pairs") a.single_pairs = true;
     else if (k == "-h" || k == "--help") {
       std::printf("see the header of perf/fmm/fmm_bench.cpp\n");
       return 0;

@@ -39,10 +39,11 @@ const SingleLayerCrossoverRow& single_layer_crossover(double tolerance) {
   return kSingleLayerCrossover[n - 1];
 }
 
-bool uses_mixed_precision(FarFieldBackend b, double tolerance) {
-  // Single-precision pairs (max relative error ~5e-7, fmm/direct_sum_mixed.hpp) whenever the
-  // tolerance leaves a 20x margin; "direct" at tighter tolerances stays in double.
-  return fmm::kMixedPrecisionDirectSum && b == FarFieldBackend::Direct && tolerance >= kMixedPrecisionTolerance;
+bool uses_mixed_precision(FarFieldBackend, double tolerance) {
+  // Single-precision pairs (max relative error ~5e-7, fmm/p2p_mixed.hpp) whenever the tolerance
+  // leaves a 20x margin: every pair of the direct sum, the FMM's direct near field; tighter
+  // tolerances stay in double.
+  return fmm::kMixedPrecisionDirectSum && tolerance >= kMixedPrecisionTolerance;
 }
 
 FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, Eigen::Index n_sources, Eigen::Index n_targets,
@@ -72,6 +73,7 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
   }
   // The double layer decides its precision per application (double_layer.cpp: set-up in double,
   // inexact GMRES steps may take single-precision pairs); the reason names the back end only.
+  // (The FMM's near field: FarField, which knows the FMM's own tolerance.)
   if (kernel == FarFieldKernel::SingleLayer && b == FarFieldBackend::Direct && uses_mixed_precision(b, tolerance))
     why += fmt::format("; pairs in single precision, sums in double (tolerance >= {:g})", kMixedPrecisionTolerance);
   if (reason) *reason = why;

@@ -22,16 +22,18 @@ std::shared_ptr<const Operators<Kernel>> ops_for(int p) {
 }
 
 /// Relative L2 error over all targets of the FMM at the kernel's calibrated order for `tol`
-/// (leaf = points per leaf, 0 = default) against direct_sum; *out receives the FMM result.
+/// (leaf = points per leaf, 0 = default) against direct_sum; *out receives the FMM result;
+/// single_pairs sets FmmOptions::single_precision_pairs.
 template <class Kernel>
 double fmm_error(const std::vector<double>& s, const std::vector<double>& t, double tol, int leaf,
-                 std::vector<double>* out = nullptr) {
+                 std::vector<double>* out = nullptr, bool single_pairs = false) {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   const std::size_t ns = s.size() / 3, nt = t.size() / 3;
   const auto f = random_density(SD * ns, 99);
   FmmOptions o;
   o.tolerance = tol;
   o.leaf_size = leaf;
+  o.single_precision_pairs = single_pairs;
   Fmm<Kernel> fmm(o, ops_for<Kernel>(order_for_tolerance<Kernel>(tol)));
   fmm.setup(s.data(), ns, t.data(), nt);
   std::vector<double> u(TD * nt, 7.0), ref(TD * nt);

@@ -384,6 +384,10 @@ TEST(SingleLayerBackends, TheFmmToleranceLoosensOnlyTheFmm) {
   EXPECT_EQ(L.fmm_order(), fmm::order_for_tolerance<fmm::Stokeslet>(kFmmToleranceMargin * 1e-5));
   EXPECT_LT(L.fmm_order(), T.fmm_order());  // the loosening takes effect (p 8 against 9)
   EXPECT_NE(L.backend_reason().find("the FMM at tolerance 1e-05"), std::string::npos) << L.backend_reason();
+  // from 1e-5 the FMM's direct near field takes single-precision pairs (where the build has them)
+  EXPECT_EQ(L.backend_reason().find("single-precision pairs") != std::string::npos, fmm::kMixedPrecisionDirectSum)
+      << L.backend_reason();
+  EXPECT_EQ(T.backend_reason().find("single-precision pairs"), std::string::npos) << T.backend_reason();
   Points ud, ut, ul;
   D.apply(m.vertices, q, ud);
   T.apply(m.vertices, q, ut);

@@ -15,16 +15,18 @@
 
 namespace capsflow::fmm {
 
-// Newton / Masked as in p2p.hpp: the defaults give full double accuracy and skip coincident pairs;
-// callers that know sources and targets are disjoint and need < 1e-8 may relax them.
-template <class Kernel, int Newton = 2, bool Masked = true>
-void direct_sum(const double* src, std::size_t n_src, const double* density, const double* trg,
-                std::size_t n_trg, double* out, int threads = 0) {
+namespace detail {
+/// The direct sum's frame, shared by direct_sum and direct_sum_mixed: the points and densities
+/// copied to structure-of-arrays scratch (per calling thread, reused: no allocation once the sizes
+/// are reached; the parallel region sees it only through pointers), OpenMP over target blocks of
+/// 128, sources in tiles of 4 096 for cache, and `pairs` (p2p's signature: it accumulates) on each
+/// block and tile. The output is OVERWRITTEN, in the caller's order.
+template <class Kernel, class Pairs>
+void direct_sum_by_blocks(const double* src, std::size_t n_src, const double* density, const double* trg,
+                          std::size_t n_trg, double* out, int threads, Pairs pairs) {
   constexpr int SD = Kernel::src_dim, TD = Kernel::trg_dim;
   std::fill(out, out + n_trg * TD, 0.0);
   if (n_src == 0 || n_trg == 0) return;
-  // Structure-of-arrays copies in scratch reused across calls (per calling thread: no allocation
-  // once the sizes are reached). The parallel region below sees them only through pointers.
   static thread_local std::vector<double> s_buf, t_buf;
   s_buf.resize(n_src * (3 + SD));
   t_buf.assign(n_trg * (3 + TD), 0.0);
@@ -53,12 +55,22 @@ void direct_sum(const double* src, std::size_t n_src, const double* density, con
       const std::size_t nj = std::min(sblock, n_src - j0);
       const double* fb[SD];
       for (int k = 0; k < SD; ++k) fb[k] = f[k] + j0;
-      p2p<Kernel, Newton, Masked>(t + i0, t + n_trg + i0, t + 2 * n_trg + i0, ni, s + j0, s + n_src + j0,
-                                  s + 2 * n_src + j0, fb, nj, ub, Kernel::scale());
+      pairs(t + i0, t + n_trg + i0, t + 2 * n_trg + i0, ni, s + j0, s + n_src + j0, s + 2 * n_src + j0, fb, nj, ub,
+            Kernel::scale());
     }
   }
   for (std::size_t i = 0; i < n_trg; ++i)
     for (int k = 0; k < TD; ++k) out[TD * i + k] = u[k][i];
+}
+}  // namespace detail
+
+// Newton / Masked as in p2p.hpp: the defaults give full double accuracy and skip coincident pairs;
+// callers that know sources and targets are disjoint and need < 1e-8 may relax them.
+template <class Kernel, int Newton = 2, bool Masked = true>
+void direct_sum(const double* src, std::size_t n_src, const double* density, const double* trg,
+                std::size_t n_trg, double* out, int threads = 0) {
+  detail::direct_sum_by_blocks<Kernel>(src, n_src, density, trg, n_trg, out, threads,
+                                       [](auto... a) { p2p<Kernel, Newton, Masked>(a...); });
 }
 
 }  // namespace capsflow::fmm

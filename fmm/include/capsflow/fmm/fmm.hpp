@@ -34,6 +34,11 @@ struct FmmOptions {
   /// false (default): for orders <= 8 (errors >= 1e-7) the near field uses one Newton step after
   /// the hardware rsqrt (<= 6e-9 relative per pair, ~16 % faster). true: full double accuracy.
   bool exact_near_field = false;
+  /// true: the direct near field's pairs (U list, and the W and X lists where summed directly) in
+  /// single precision with double sums (p2p_mixed.hpp: ~4e-7 in L2 on random sums), for
+  /// tolerances ≥ 1e-5; one density per call only (several share the double pairs). Ignored
+  /// without a single-precision vector type and with exact_near_field.
+  bool single_precision_pairs = false;
 };
 
 /// Seconds spent in each phase by the last setup() / evaluate() (evaluate: all its densities).
@@ -90,6 +95,7 @@ class Fmm {
   // near field with one Newton step (6e-9 per pair) for orders whose error is >= 1e-7 (p <= 8)
   static constexpr int kFastRsqrtMaxOrder = 8;
   bool fast_rsqrt_ = false;
+  bool single_pairs_ = false;  // opt_.single_precision_pairs where it applies
   int leaf_size_ = 0, threads_ = 1;
   std::shared_ptr<const Operators<Kernel>> ops_;
   Tree tree_;

@@ -22,6 +22,7 @@
 
 #include "capsflow/fmm/equivalent.hpp"
 #include "capsflow/fmm/p2p.hpp"
+#include "capsflow/fmm/p2p_mixed.hpp"
 
 namespace capsflow::fmm {
 namespace detail {
@@ -94,6 +95,7 @@ Fmm<Kernel>::Fmm(const FmmOptions& opt) : opt_(opt) {
   leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size<Kernel>(p);
   threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
   fast_rsqrt_ = !opt.exact_near_field && p <= kFastRsqrtMaxOrder;
+  single_pairs_ = opt.single_precision_pairs && !opt.exact_near_field && simd::kHasSinglePrecisionPairs;
 }
 
 template <class Kernel>
@@ -103,6 +105,7 @@ Fmm<Kernel>::Fmm(const FmmOptions& opt, std::shared_ptr<const Operators<Kernel>>
   leaf_size_ = opt.leaf_size > 0 ? opt.leaf_size : default_leaf_size<Kernel>(ops_->order());
   threads_ = opt.threads > 0 ? opt.threads : omp_get_max_threads();
   fast_rsqrt_ = !opt.exact_near_field && ops_->order() <= kFastRsqrtMaxOrder;
+  single_pairs_ = opt.single_precision_pairs && !opt.exact_near_field && simd::kHasSinglePrecisionPairs;
 }
 
 template <class Kernel>
@@ -450,7 +453,10 @@ void Fmm<Kernel>::near_field() {
         const double *sx = T.sx.data() + A.sb, *sy = T.sy.data() + A.sb, *sz = T.sz.data() + A.sb;
         const bool self = &A == &B;
         const double sc = Kernel::scale();
-        if (fast_rsqrt_) {
+        if (single_pairs_ && nd == 1) {
+          if (self) p2p_mixed<Kernel, true>(tx, ty, tz, B.ntrg(), sx, sy, sz, f.data(), A.nsrc(), u.data(), sc);
+          else p2p_mixed<Kernel, false>(tx, ty, tz, B.ntrg(), sx, sy, sz, f.data(), A.nsrc(), u.data(), sc);
+        } else if (fast_rsqrt_) {
           if (self) p2p_multi<Kernel, 1, true>(nd, tx, ty, tz, B.ntrg(), sx, sy, sz, f.data(), A.nsrc(), u.data(), sc);
           else p2p_multi<Kernel, 1, false>(nd, tx, ty, tz, B.ntrg(), sx, sy, sz, f.data(), A.nsrc(), u.data(), sc);
         } else {

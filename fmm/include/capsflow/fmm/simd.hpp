@@ -5,6 +5,7 @@
 // or a plain double (1 lane, the portable fallback; loops around it carry `#pragma omp simd`).
 // Kernels are written once against this type (and against plain double for the scalar reference).
 // rsqrt(r2) returns 1/sqrt(r2) to full double accuracy and 0 where r2 == 0 (self pairs skipped).
+// VecF, with AVX-512 (16 lanes) or AVX2 (8), is the single-precision pair type of p2p_mixed.hpp.
 #include <cmath>
 #include <cstddef>
 
@@ -54,14 +55,16 @@ inline VecD rsqrt(VecD r2) {
   return _mm512_maskz_mov_pd(nz, y);
 }
 
-// 16 single-precision lanes (AVX-512 only): the pair type of the mixed-precision direct sum
-// (direct_sum_mixed.hpp), so that its pairs use the same kernel formula as every other path.
+// 16 single-precision lanes: the pair type of the mixed-precision pairs (p2p_mixed.hpp), so that
+// they use the same kernel formula as every other path.
 struct VecF {
   __m512 v;
   static constexpr int width = 16;
   VecF() = default;
   VecF(__m512 x) : v(x) {}
   explicit VecF(float x) : v(_mm512_set1_ps(x)) {}
+  static VecF load(const float* p) { return _mm512_loadu_ps(p); }
+  void store(float* p) const { _mm512_storeu_ps(p, v); }
 };
 inline VecF operator+(VecF a, VecF b) { return _mm512_add_ps(a.v, b.v); }
 inline VecF operator-(VecF a, VecF b) { return _mm512_sub_ps(a.v, b.v); }
@@ -72,6 +75,10 @@ inline VecF rsqrt(VecF r2) {
   const __m512 half = _mm512_set1_ps(0.5f), three_half = _mm512_set1_ps(1.5f);
   const __m512 y = _mm512_rsqrt14_ps(r2.v);
   return _mm512_mul_ps(y, _mm512_fnmadd_ps(_mm512_mul_ps(half, r2.v), _mm512_mul_ps(y, y), three_half));
+}
+// y where r2 > 0, else 0 (a self pair adds nothing)
+inline VecF zero_where_coincident(VecF y, VecF r2) {
+  return _mm512_maskz_mov_ps(_mm512_cmp_ps_mask(r2.v, _mm512_setzero_ps(), _CMP_GT_OQ), y.v);
 }
 #elif defined(__AVX2__) && defined(__FMA__)
 struct VecD {
@@ -106,6 +113,32 @@ inline VecD rsqrt(VecD r2) {
   const __m256d y = _mm256_div_pd(_mm256_set1_pd(1.0), _mm256_sqrt_pd(r2.v));
   return _mm256_and_pd(y, _mm256_cmp_pd(r2.v, zero, _CMP_GT_OQ));
 }
+
+// 8 single-precision lanes: the pair type of the mixed-precision pairs (p2p_mixed.hpp). Without
+// AVX-512 the exact double 1/sqrt needs the divider, which bounds the double pairs' throughput;
+// these pairs avoid it and carry twice the lanes (perf/fmm/RESULTS.md, "Single-precision pairs").
+struct VecF {
+  __m256 v;
+  static constexpr int width = 8;
+  VecF() = default;
+  VecF(__m256 x) : v(x) {}
+  explicit VecF(float x) : v(_mm256_set1_ps(x)) {}
+  static VecF load(const float* p) { return _mm256_loadu_ps(p); }
+  void store(float* p) const { _mm256_storeu_ps(p, v); }
+};
+inline VecF operator+(VecF a, VecF b) { return _mm256_add_ps(a.v, b.v); }
+inline VecF operator-(VecF a, VecF b) { return _mm256_sub_ps(a.v, b.v); }
+inline VecF operator*(VecF a, VecF b) { return _mm256_mul_ps(a.v, b.v); }
+inline VecF fma(VecF a, VecF b, VecF c) { return _mm256_fmadd_ps(a.v, b.v, c.v); }
+// 12-bit hardware estimate and one Newton step (~2e-7 relative); no r2 == 0 mask.
+inline VecF rsqrt(VecF r2) {
+  const __m256 half = _mm256_set1_ps(0.5f), three_half = _mm256_set1_ps(1.5f);
+  const __m256 y = _mm256_rsqrt_ps(r2.v);
+  return _mm256_mul_ps(y, _mm256_fnmadd_ps(_mm256_mul_ps(half, r2.v), _mm256_mul_ps(y, y), three_half));
+}
+inline VecF zero_where_coincident(VecF y, VecF r2) {
+  return _mm256_and_ps(y.v, _mm256_cmp_ps(r2.v, _mm256_setzero_ps(), _CMP_GT_OQ));
+}
 #else
 struct VecD {
   double v;
@@ -130,6 +163,13 @@ inline VecD rsqrt(VecD r2) { return VecD(r2.v > 0 ? 1.0 / std::sqrt(r2.v) : 0.0)
 // Scalar overloads so that kernels templated on the value type also work with plain double.
 inline double fma(double a, double b, double c) { return a * b + c; }
 inline double rsqrt(double r2) { return r2 > 0 ? 1.0 / std::sqrt(r2) : 0.0; }
+
+/// True where VecF exists (AVX-512 or AVX2 + FMA): the single-precision pairs of p2p_mixed.hpp.
+#if defined(__AVX512F__) || (defined(__AVX2__) && defined(__FMA__))
+inline constexpr bool kHasSinglePrecisionPairs = true;
+#else
+inline constexpr bool kHasSinglePrecisionPairs = false;
+#endif
 
 /// Name of the active vector path, for reports.
 inline const char* isa_name() {

@@ -58,16 +58,17 @@ struct SingleLayerCrossoverRow {
 // Every row is measured: the FMM wins at the largest size of the set (octahedron level 6, 28 400)
 // at every tolerance (with leaves of 200–600 direct won there from 1e-6 on, and the rows had to be
 // extrapolated to 31 000–50 000). From 1e-6 on the direct sum pairs in double (~1.6× the time per
-// pair), which is why 1e-6 switches no later than 1e-5 although its FMM order is higher. The
-// single-precision pairs need AVX-512 (fmm::kMixedPrecisionDirectSum); without them 1e-3–1e-5 sum
-// in double and the true crossover is lower.
+// pair), which is why 1e-6 switches no later than 1e-5 although its FMM order is higher. The rows
+// were measured with AVX-512 and double pairs in the FMM's near field; the FMM's single-precision
+// pairs (1e-5 and looser) make it cheaper there, so those crossovers are, if anything, late.
 inline constexpr SingleLayerCrossoverRow kSingleLayerCrossover[] = {
     {1e-3, 10500, true}, {1e-4, 14200, true}, {1e-5, 16200, true},
     {1e-6, 16200, true}, {1e-7, 16200, true}, {0.0, 24000, true},
 };
 const SingleLayerCrossoverRow& single_layer_crossover(double tolerance);
 
-// True when the direct far field sums single-precision pairs (tolerance >= 1e-5, AVX-512 builds).
+// True when the single layer's far field sums single-precision pairs (tolerance >= 1e-5, builds
+// with AVX-512 or AVX2): every pair of the direct sum, the FMM's direct near field.
 bool uses_mixed_precision(FarFieldBackend b, double tolerance);
 
 // The double layer's FMM order, chosen by the error the second-kind solve sees: relative to the
