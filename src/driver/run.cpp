@@ -67,6 +67,11 @@ std::optional<StopReason> Simulation::Impl::step() {
   }
   report_progress(false);
   if (health_stop) return stop(*health_stop);
+  if (channel && channel->reached_outlet(st.x)) {
+    spdlog::info("the capsule's front reached x1 = {:.4g}, within {} channel radii of the outlet cap at {:.4g}: stopping",
+                 st.x.col(0).maxCoeff(), ChannelDynamics::kOutletStopClearance, 0.5 * channel->channel().geometry.length);
+    return stop(StopReason(StopKind::Outlet));
+  }
   if (scene.time.stop_at_steady && steady->steady()) return stop(StopReason(StopKind::Steady));
   if (time_reached(st.t, scene.time.t_end, st.dt)) return stop(StopReason(StopKind::TEnd));
   return std::nullopt;

@@ -129,13 +129,18 @@ void ChannelDynamics::evaluate(const Points& x, Points& v, const EvaluationHint&
     v.col(0).array() -= axial_velocity_;
   } else if (x.col(0).maxCoeff() > 0.5 * g.length - g.radius) {
     // In the lab frame the capsule travels towards the outlet; within a radius of it the cap's
-    // zero disturbance would be felt.
+    // zero disturbance would be felt (the run stops before, reached_outlet).
     throw SolverFailure(fmt::format("the capsule reached x1 = {:.3g}, within channel.radius of the outlet cap at {:.3g}",
                                     x.col(0).maxCoeff(), 0.5 * g.length));
   }
   clock.lap(times_, Phase::Other);
   ++counters_.evaluations;
   if (!v.allFinite()) throw SolverFailure("non-finite velocity");
+}
+
+bool ChannelDynamics::reached_outlet(const Points& x) const {
+  const ChannelGeometry& g = channel_.geometry;
+  return !g.straight() && x.col(0).maxCoeff() > 0.5 * g.length - kOutletStopClearance * g.radius;
 }
 
 double ChannelDynamics::pressure_drop_from_caps() const {

@@ -9,6 +9,7 @@ using namespace capsflow;
 TEST(StopReason, SpellingsAreThoseSummaryJsonHasAlwaysWritten) {
   EXPECT_EQ(StopReason(StopKind::TEnd).to_string(), "t_end");
   EXPECT_EQ(StopReason(StopKind::Steady).to_string(), "steady");
+  EXPECT_EQ(StopReason(StopKind::Outlet).to_string(), "outlet");
   EXPECT_EQ(StopReason(StopKind::Interrupted).to_string(), "interrupted");
   EXPECT_EQ(StopReason(StopKind::BlowUp).to_string(), "blow_up");
   EXPECT_EQ(StopReason(StopKind::NoProgress).to_string(), "no_progress");
@@ -25,6 +26,7 @@ TEST(StopReason, ExitCodes) {
   // trusted (blow-up, solver failure, no progress, a time.stop_on condition), 130 on a signal.
   EXPECT_EQ(StopReason(StopKind::TEnd).exit_code(), 0);
   EXPECT_EQ(StopReason(StopKind::Steady).exit_code(), 0);
+  EXPECT_EQ(StopReason(StopKind::Outlet).exit_code(), 0);  // the capsule has passed the channel: done
   EXPECT_EQ(StopReason(StopKind::Interrupted).exit_code(), 130);
   EXPECT_EQ(StopReason(StopKind::BlowUp).exit_code(), 3);
   EXPECT_EQ(StopReason(StopKind::SolverFailure, "x").exit_code(), 3);

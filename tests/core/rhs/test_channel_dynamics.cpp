@@ -87,6 +87,14 @@ TEST(ChannelDynamics, InAConstrictionTheFrameIsTheLabsAndTheCapsuleAdvances) {
       }
   EXPECT_NEAR(U / (mean / volume), 1, 0.02);
   EXPECT_GT(d.channel_wall().traction().norm(), 0);  // the empty constriction's own traction
+  // The outlet cap is at x1 = 10: the run stops once the front passes 10 − 1.25 × 2 = 7.5.
+  const double front = ref.vertices.col(0).maxCoeff();
+  Points moved = ref.vertices;
+  EXPECT_FALSE(d.reached_outlet(moved));
+  moved.col(0).array() += 7.5 - front - 0.01;
+  EXPECT_FALSE(d.reached_outlet(moved));
+  moved.col(0).array() += 0.02;
+  EXPECT_TRUE(d.reached_outlet(moved));
   EXPECT_LT(std::abs(d.pressure_drop()), 1e-12);  // no load but round-off: nothing in the reciprocal theorem
   // A pre-inflated capsule's Laplace load is a pressure: it disturbs nothing outside and adds no
   // pressure drop (discretely: 1e-3 of the load's scale q·a² / R² = 0.7/4, against O(1) for a

@@ -56,6 +56,7 @@ TEST(VariantFolder, TheStopReasonsKindDecidesTheFoldersState) {
   const std::pair<const char*, study::FolderState> cases[] = {
       {"t_end", study::FolderState::Finished},
       {"steady", study::FolderState::Finished},
+      {"outlet", study::FolderState::Finished},
       {"interrupted", study::FolderState::Interrupted},
       {"blow_up", study::FolderState::Failed},
       {"no_progress: 20 rejected steps in a row", study::FolderState::Failed},

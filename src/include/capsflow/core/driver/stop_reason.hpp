@@ -17,6 +17,7 @@ namespace capsflow {
 enum class StopKind {
   TEnd,           // t_end reached
   Steady,         // steady state detected (time.stop_at_steady)
+  Outlet,         // the capsule came within reach of a lab-frame channel's outlet (a constriction passed)
   Interrupted,    // SIGINT/SIGTERM or a caller's stop request: checkpoint written, can continue
   BlowUp,         // a step failed the run-health checks; the last healthy state is kept
   SolverFailure,  // an inner solve of the right-hand side failed
@@ -29,8 +30,9 @@ struct StopKindInfo {
   const char* name;  // nullptr for Health: spelled by its condition
   int exit_code;     // 0: the run did what it was asked; 3: its last state is not trustworthy; 130: interrupted
 };
-inline constexpr std::array<StopKindInfo, 7> kStopKinds{{{StopKind::TEnd, "t_end", 0},
+inline constexpr std::array<StopKindInfo, 8> kStopKinds{{{StopKind::TEnd, "t_end", 0},
                                                          {StopKind::Steady, "steady", 0},
+                                                         {StopKind::Outlet, "outlet", 0},
                                                          {StopKind::Interrupted, "interrupted", 130},
                                                          {StopKind::BlowUp, "blow_up", 3},
                                                          {StopKind::SolverFailure, "solver_failure", 3},

@@ -70,6 +70,12 @@ class ChannelDynamics final : public CapsulesDynamics {
   const ChannelFlow& channel() const { return channel_; }
   const FixedWall& channel_wall() const { return *channel_wall_; }
   double axial_velocity() const { return axial_velocity_; }  // U of the last evaluation
+  // In the lab frame (a constriction) the capsule travels towards the outlet cap, whose zero
+  // disturbance it would feel within about a channel radius: a run stops (stop_reason "outlet")
+  // once an accepted step brings the capsule's front within kOutletStopClearance radii of the cap,
+  // and evaluate() refuses stages within one radius (a step too long to stop in time is retried).
+  static constexpr double kOutletStopClearance = 1.25;
+  bool reached_outlet(const Points& x) const;
   const FixedWallSolve& last_wall_solve() const { return last_solve_; }
   long wall_gmres_iterations() const { return wall_gmres_iterations_; }  // over all evaluations
   // The channel's Poiseuille velocity (along x) at a point, 0 outside the cross-section.
