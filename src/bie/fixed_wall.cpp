@@ -1,8 +1,10 @@
 #include "capsflow/core/bie/fixed_wall.hpp"
 
+#include <fmt/core.h>
+
 #include <chrono>
-#include <vector>
 #include <stdexcept>
+#include <vector>
 
 #include "capsflow/core/bie/quadrature.hpp"
 #include "capsflow/core/geometry/measures.hpp"
@@ -187,12 +189,22 @@ FixedWallSolve FixedWall::solve(const Points* induced, double velocity_scale) {
   Eigen::VectorXd x = flat(traction_);
   if (preconditioned_) x = near_ * x;  // the warm start in the preconditioned unknown y = M f
   const GmresResult r = gmres(apply, bv, x, weight_, scale, opt_.gmres);
-  flat(traction_) = preconditioned_ ? Eigen::VectorXd(near_lu_.solve(x)) : x;
+  // A warm start that already meets the tolerance is kept as it is: the round trip through the
+  // preconditioner would move it by round-off, and a state solved again (an output at the state, a
+  // restart) would then continue differently from one solved once.
+  if (r.iterations > 0) flat(traction_) = preconditioned_ ? Eigen::VectorXd(near_lu_.solve(x)) : x;
   out.iterations = r.iterations;
   out.residual = r.residual / scale;
   out.converged = r.converged;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+void FixedWall::set_traction(const Points& f) {
+  if (f.rows() != traction_.rows() || f.cols() != 3)
+    throw std::invalid_argument(fmt::format("FixedWall::set_traction: {}×{} for a wall of {} nodes", f.rows(), f.cols(),
+                                            traction_.rows()));
+  traction_ = f;
 }
 
 void FixedWall::single_layer_at(const Points& traction, const Points& targets, Points& u, OffSurfaceReport* report) {

@@ -214,6 +214,7 @@ void Simulation::Impl::write_checkpoint(const std::filesystem::path& path) {
       extra["capsules"]["elements"].push_back(surfaces->part(k).elements);
     }
   }
+  if (wall_gap) extra["wall_gap"] = wall_gap->state();
   stepper->save(extra, ck.integrator_state);
   dyn->save_fluid_state(extra, ck.fluid_state);
   if (far_check->enabled()) extra[far_check->name()] = far_check->state(dyn->single_layer());

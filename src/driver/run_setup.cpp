@@ -296,7 +296,7 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
   steady->set_history(ck.history);
   const auto e = nlohmann::json::parse(ck.extra);
   st.set_extra(e);
-  dyn->load_fluid_state(e, ck.fluid_state);  // the second-kind solve's warm starts (λ ≠ 1)
+  dyn->load_fluid_state(e, ck.fluid_state);  // the fluid solves' warm starts (λ ≠ 1, a channel's wall)
   if (e.contains(far_check->name())) far_check->set_state(e.at(far_check->name()));
   if (e.contains(dl_far_check->name())) dl_far_check->set_state(e.at(dl_far_check->name()));
   // A changed output.every or checkpoint_every counts its index from the checkpoint time.
@@ -309,6 +309,7 @@ void Simulation::Impl::restore(const io::CheckpointState& ck) {
     for (int k = 0; k < capsules(); ++k) watch[static_cast<std::size_t>(k)].health->set_state(h.is_array() ? h.at(static_cast<std::size_t>(k)) : h);
   }
   if (gap && e.contains("surface_gap")) gap->set_state(e.at("surface_gap"));
+  if (wall_gap && e.contains("wall_gap")) wall_gap->set_state(e.at("wall_gap"));
   last_output_t = st.t;
 }
 

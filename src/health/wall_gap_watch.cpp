@@ -32,4 +32,15 @@ nlohmann::json WallGapWatch::summary() const {
           {"active", active_}};
 }
 
+nlohmann::json WallGapWatch::state() const {
+  return {{"worst", worst_}, {"t_worst", t_worst_}, {"active", active_}, {"episodes", episodes_}};
+}
+
+void WallGapWatch::set_state(const nlohmann::json& j) {
+  worst_ = j.at("worst").get<double>();
+  t_worst_ = j.at("t_worst").get<double>();
+  active_ = j.at("active").get<bool>();
+  episodes_ = j.at("episodes").get<long>();
+}
+
 }  // namespace capsflow

@@ -46,7 +46,7 @@ void CapsuleDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
 
 CapsuleDynamics::Carry CapsuleDynamics::carry() const {
   return {{wall_load_.wall().state()}, wall_load_.load(),
-          viscosity_ ? viscosity_->warm_start() : ViscosityRatioSolver::WarmStart{}};
+          viscosity_ ? viscosity_->warm_start() : ViscosityRatioSolver::WarmStart{}, Points{}};
 }
 
 void CapsuleDynamics::restore(Carry c) {

@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -61,12 +63,26 @@ void ChannelDynamics::solve_wall(const Points& x, const EvaluationHint& hint) {
 }
 
 CapsulesDynamics::Carry ChannelDynamics::carry() const {
-  return {{wall_load_.wall().state()}, wall_load_.load(), {}};
+  return {{wall_load_.wall().state()}, wall_load_.load(), {}, channel_wall_->traction()};
 }
 
 void ChannelDynamics::restore(Carry c) {
   wall_load_.wall().set_state(c.walls.at(0));
   wall_load_.set_load(std::move(c.load));
+  if (c.channel_traction.size() > 0) channel_wall_->set_traction(c.channel_traction);
+}
+
+void ChannelDynamics::save_fluid_state(nlohmann::json& extra, Eigen::MatrixXd& matrix) const {
+  matrix = channel_wall_->traction();  // the wall solve's warm start: a restart continues bit for bit
+  extra["fluid_state"] = {{"channel_traction", true}};
+}
+
+void ChannelDynamics::load_fluid_state(const nlohmann::json& extra, const Eigen::MatrixXd& matrix) {
+  if (!extra.contains("fluid_state") || !extra.at("fluid_state").value("channel_traction", false)) return;
+  if (matrix.rows() != channel_wall_->traction().rows() || matrix.cols() != 3)
+    throw std::runtime_error(fmt::format("checkpoint: the channel wall's traction has {}×{} values for a wall of {} nodes",
+                                         matrix.rows(), matrix.cols(), channel_wall_->traction().rows()));
+  channel_wall_->set_traction(matrix);
 }
 
 PhaseTimes ChannelDynamics::times() const {

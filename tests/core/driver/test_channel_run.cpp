@@ -163,6 +163,47 @@ TEST(ChannelRun, WritesTheCapsulesSpeedThroughTheChannelAndItsLabPosition) {
   fs::remove_all(dir);
 }
 
+// A restart continues bit for bit: the checkpoint holds the wall solve's warm start (the channel
+// wall's traction) and the closest approach so far; output times between steps put the traction
+// back (dense output), so the half-way checkpoint does not move the trajectory either. Times exact
+// in binary, so that the first part ends where the uninterrupted run's step does.
+TEST(ChannelRun, ARestartContinuesBitForBit) {
+  const fs::path base = fs::temp_directory_path() / ("capsflow-channel-restart-" + std::to_string(::getpid()));
+  const fs::path straight = base / "straight", first = base / "first", second = base / "second";
+  fs::remove_all(base);
+  const std::vector<std::string> times = {"output.every=0.0625", "output.checkpoint_every=0.125"};
+  auto options = [&](const std::string& t_end, const fs::path& dir) {
+    std::vector<std::string> o = times;
+    o.push_back("time.t_end=" + t_end);
+    RunOptions r;
+    r.scene = tube_scene(o);
+    r.output_dir = dir.string();
+    r.threads = 1;
+    return r;
+  };
+  Simulation whole(options("0.25", straight));
+  ASSERT_EQ(whole.run(), 0);
+  ASSERT_EQ(Simulation(options("0.125", first)).run(), 0);
+  RunOptions r;
+  r.restart = (first / "checkpoint.h5").string();
+  r.restart_overrides = {"time.t_end=0.25"};
+  r.output_dir = second.string();
+  r.threads = 1;
+  Simulation continued(r);
+  ASSERT_EQ(continued.run(), 0);
+  EXPECT_EQ((continued.positions() - whole.positions()).cwiseAbs().maxCoeff(), 0.0);
+  auto summary = [](const fs::path& dir) {
+    std::ifstream f(dir / "summary.json");
+    return nlohmann::json::parse(f);
+  };
+  const nlohmann::json a = summary(straight), b = summary(second);
+  EXPECT_EQ(a.at("velocity_ratio"), b.at("velocity_ratio"));
+  EXPECT_EQ(a.at("pressure_drop"), b.at("pressure_drop"));
+  EXPECT_EQ(a.at("centroid"), b.at("centroid"));  // the lab position carries over too
+  EXPECT_EQ(a.at("channel").at("closest_approach"), b.at("channel").at("closest_approach"));
+  fs::remove_all(base);
+}
+
 TEST(ChannelRun, ACapsuleCloserToTheWallThanContactMinGapStopsTheRunUnderStopOn) {
   // The tiny tube's capsule starts 0.6 from the wall, 0.94 of the nearest wall element's longest
   // edge: a min_gap of 3 element sizes begins the surface_gap condition at once; with stop_on the

@@ -80,6 +80,8 @@ class FixedWall {
   // to that scale: a right-hand side that is round-off of the flow's velocity takes no iteration.
   FixedWallSolve solve(const Points* induced = nullptr, double velocity_scale = 0);
   const Points& traction() const { return traction_; }
+  // The next solve's warm start (a checkpoint's, or one put back after an output between steps).
+  void set_traction(const Points& f);
 
   // u at points inside the wall: S[f] + D[u_w] (the single layer with the near-surface check of
   // off_surface.hpp; the double layer by adaptive quadrature on the elements where u_w ≠ 0).

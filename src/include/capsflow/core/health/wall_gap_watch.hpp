@@ -19,6 +19,8 @@ class WallGapWatch {
   bool active() const { return active_; }
   // summary.json: the smallest gap over the run and when, the threshold, the episodes.
   nlohmann::json summary() const;
+  nlohmann::json state() const;  // restarts: the worst gap so far, the episode in progress
+  void set_state(const nlohmann::json& j);
 
  private:
   double min_gap_;

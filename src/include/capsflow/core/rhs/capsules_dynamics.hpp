@@ -25,6 +25,7 @@ class CapsulesDynamics : public RightHandSide {
     std::vector<Eigen::VectorXd> walls;
     Points load;
     ViscosityRatioSolver::WarmStart viscosity;
+    Points channel_traction;  // a channel wall's traction (its solve's warm start); empty without
   };
 
   virtual int capsules() const = 0;
@@ -37,7 +38,8 @@ class CapsulesDynamics : public RightHandSide {
   virtual Carry carry() const = 0;
   virtual void restore(Carry c) = 0;
   // What the fluid solve carries from one trajectory evaluation to the next, for checkpoints
-  // (CapsuleDynamics::save_fluid_state; nothing at λ = 1).
+  // (CapsuleDynamics::save_fluid_state: the second-kind solve's at λ ≠ 1; ChannelDynamics's: the
+  // wall's traction; nothing for one capsule at λ = 1).
   virtual void save_fluid_state(nlohmann::json& extra, Eigen::MatrixXd& matrix) const = 0;
   virtual void load_fluid_state(const nlohmann::json& extra, const Eigen::MatrixXd& matrix) = 0;
   // The single layer over every capsule: its far field's back end, order, tolerance and checks.

@@ -55,8 +55,9 @@ class ChannelDynamics final : public CapsulesDynamics {
   void solve_wall(const Points& x, const EvaluationHint& hint) override;
   Carry carry() const override;
   void restore(Carry c) override;
-  void save_fluid_state(nlohmann::json&, Eigen::MatrixXd& matrix) const override { matrix.resize(0, 0); }
-  void load_fluid_state(const nlohmann::json&, const Eigen::MatrixXd&) override {}
+  // The wall's traction, the warm start of its solve: a restart continues bit for bit.
+  void save_fluid_state(nlohmann::json& extra, Eigen::MatrixXd& matrix) const override;
+  void load_fluid_state(const nlohmann::json& extra, const Eigen::MatrixXd& matrix) override;
 
   int capsules() const override { return 1; }
   const Points& load() const override { return wall_load_.load(); }
