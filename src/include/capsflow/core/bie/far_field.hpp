@@ -60,7 +60,7 @@ enum class DirectPairs {
            // smallest tolerance a scene accepts, 1e-8) and no r = 0 test: targets that never coincide
            // with a source, such as the nodes (edge midpoints and Gauss points never do); 15–20 %
            // faster than Exact
-  Single,  // single-precision pairs, sums in double (fmm/direct_sum_mixed.hpp; AVX-512 builds), at the nodes
+  Single,  // single-precision pairs, sums in double (fmm/direct_sum_mixed.hpp; AVX-512 or AVX2 builds), at the nodes
 };
 
 template <class Kernel>
