@@ -39,7 +39,7 @@ const SingleLayerCrossoverRow& single_layer_crossover(double tolerance) {
   return kSingleLayerCrossover[n - 1];
 }
 
-bool uses_mixed_precision(FarFieldBackend, double tolerance) {
+bool uses_mixed_precision(double tolerance) {
   // Single-precision pairs (max relative error ~5e-7, fmm/p2p_mixed.hpp) whenever the tolerance
   // leaves a 20x margin: every pair of the direct sum, the FMM's direct near field; tighter
   // tolerances stay in double.
@@ -74,7 +74,7 @@ FarFieldBackend choose_backend(BackendRequest requested, FarFieldKernel kernel, 
   // The double layer decides its precision per application (double_layer.cpp: set-up in double,
   // inexact GMRES steps may take single-precision pairs); the reason names the back end only.
   // (The FMM's near field: FarField, which knows the FMM's own tolerance.)
-  if (kernel == FarFieldKernel::SingleLayer && b == FarFieldBackend::Direct && uses_mixed_precision(b, tolerance))
+  if (kernel == FarFieldKernel::SingleLayer && b == FarFieldBackend::Direct && uses_mixed_precision(tolerance))
     why += fmt::format("; pairs in single precision, sums in double (tolerance >= {:g})", kMixedPrecisionTolerance);
   if (reason) *reason = why;
   return b;

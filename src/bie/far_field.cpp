@@ -78,7 +78,7 @@ FarField<Kernel>::FarField(const NearFieldLists& lists, Eigen::Index n_elements,
   if (backend_ != FarFieldBackend::Fmm) return;
   tolerance_ = fmm_promise(opt);
   if (tolerance_ != opt.tolerance) reason_ += fmt::format("; the FMM at tolerance {:g}", tolerance_);
-  if (kStokeslet<Kernel> && uses_mixed_precision(backend_, tolerance_))
+  if (kStokeslet<Kernel> && uses_mixed_precision(tolerance_))
     reason_ += "; its direct near field in single-precision pairs, sums in double";
   // The FMM calibration is in relative L2 error over the targets; capsflow promises the tolerance
   // relative to max |v| at every node (max norm), so the Stokeslet's FMM is asked for a safety
@@ -141,7 +141,7 @@ int FarField<Kernel>::add_fmm(double tolerance) {
   o.leaf_size = fmm_leaf_size_forced_;
   o.threads = threads_;
   // the single layer's FMM sums its direct near field in single precision from tolerance 1e-5
-  o.single_precision_pairs = kStokeslet<Kernel> && uses_mixed_precision(FarFieldBackend::Fmm, tolerance_);
+  o.single_precision_pairs = kStokeslet<Kernel> && uses_mixed_precision(tolerance_);
   fmms_.push_back(Pass{std::make_unique<fmm::Fmm<Kernel>>(o)});
   return static_cast<int>(fmms_.size()) - 1;
 }

@@ -139,7 +139,7 @@ FixedSingleLayer::FixedSingleLayer(const SurfaceMesh& surface, const SingleLayer
   Stopwatch clock;
   const Points& x = surface.vertices;
   const Triangles& t = surface.triangles;
-  mixed_precision_ = uses_mixed_precision(far_.backend(), opt.tolerance);
+  mixed_precision_ = uses_mixed_precision(opt.tolerance);
   // The sources' positions (their values are formed from each load in apply()).
   far_.place(x, surface_, [](const QuadraticTriangle& T, Eigen::Index, const double* l, double, double* y, double* v) {
     const Vec3 p = T.position(l[1], l[2]);

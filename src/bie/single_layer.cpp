@@ -26,7 +26,7 @@ SingleLayer::SingleLayer(const Triangles& triangles, Eigen::Index n_nodes, const
   if (opt.singular_radial_points > 16)
     throw std::invalid_argument("singular_radial_points: at most 16 Gauss points in u");
   const std::size_t m = static_cast<std::size_t>(tri_.rows());
-  mixed_precision_ = uses_mixed_precision(far_.backend(), opt.tolerance);
+  mixed_precision_ = uses_mixed_precision(opt.tolerance);
   far_block_.resize(m);
   if (opt.near_ring_depth == 0 && lists_.ring_layers() > 0) ring_block_.resize(m);
   batches_.resize(static_cast<size_t>(threads_));

@@ -272,11 +272,9 @@ TEST(BackendChoice, ASceneRequestIsHonouredWhateverTheSize) {
 TEST(BackendChoice, SinglePrecisionPairsOnlyForTheSingleLayerFromTolerance1e5) {
   // 1e-5 leaves a 20× margin over the pairs' ~5e-7 (fmm/p2p_mixed.hpp): the direct sum's pairs and
   // the FMM's direct near field.
-  for (FarFieldBackend b : {FarFieldBackend::Direct, FarFieldBackend::Fmm}) {
-    EXPECT_EQ(uses_mixed_precision(b, 1e-5), fmm::kMixedPrecisionDirectSum);
-    EXPECT_EQ(uses_mixed_precision(b, 1e-3), fmm::kMixedPrecisionDirectSum);
-    EXPECT_FALSE(uses_mixed_precision(b, 9.9e-6));
-  }
+  EXPECT_EQ(uses_mixed_precision(1e-5), fmm::kMixedPrecisionDirectSum);
+  EXPECT_EQ(uses_mixed_precision(1e-3), fmm::kMixedPrecisionDirectSum);
+  EXPECT_FALSE(uses_mixed_precision(9.9e-6));
   std::string why;
   choose_backend(BackendRequest::Direct, FarFieldKernel::SingleLayer, 100, 100, 1e-4, &why);
   EXPECT_EQ(why.find("single precision") != std::string::npos, fmm::kMixedPrecisionDirectSum) << why;

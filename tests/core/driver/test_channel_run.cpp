@@ -19,35 +19,13 @@
 #include "capsflow/core/mesh/reference_mesh.hpp"
 #include "capsflow/core/mesh/stats.hpp"
 #include "capsflow/core/scene/scene.hpp"
+#include "tiny_tube_scene.hpp"
 
 namespace capsflow {
 namespace {
 namespace fs = std::filesystem;
 
-// An 80-element Skalak sphere in a tube of radius 1.6 (confinement 0.625), to t = 0.2 ℓ/V.
-constexpr const char* kTinyTube = R"([mesh]
-base = "icosahedron"
-level = 1
-shape = "sphere"
-[wall]
-model = "membrane"
-law = "skalak"
-[flow]
-type = "poiseuille"
-ca_s = 0.05
-[time]
-t_end = 0.2
-[output]
-every = 0.1
-checkpoint_every = 0.1
-[channel]
-shape = "tube"
-radius = 1.6
-length = 9
-element_size = 0.4
-)";
-
-Scene tube_scene(const std::vector<std::string>& overrides = {}) { return parse_scene(kTinyTube, "tube.toml", overrides); }
+Scene tube_scene(const std::vector<std::string>& overrides = {}) { return test::tiny_tube_scene(overrides); }
 
 // The message of the SceneError that `f` throws, or "" when it throws none.
 template <class F>

@@ -9,44 +9,28 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "capsflow/core/driver/simulation.hpp"
 #include "capsflow/core/io/checkpoint.hpp"
 #include "capsflow/core/scene/scene.hpp"
+#include "tiny_tube_scene.hpp"
 
 namespace capsflow {
 namespace {
 namespace fs = std::filesystem;
 
-// An 80-element Skalak sphere in a duct of half-width 1.6 narrowed to 0.9 × 1.6 = 1.44 along x2
-// (wider than the capsule: it passes without squeezing), outlet cap at x1 = 7.7.
-constexpr const char* kTinyConstriction = R"([mesh]
-base = "icosahedron"
-level = 1
-shape = "sphere"
-[wall]
-model = "membrane"
-law = "skalak"
-[flow]
-type = "poiseuille"
-ca_s = 0.05
-[time]
-t_end = 10
-[output]
-every = 0.5
-[channel]
-shape = "constricted_duct"
-radius = 1.6
-length = 15.4
-element_size = 0.4
-constriction_height = 0.9
-)";
+// The tiny tube made a duct of half-width 1.6 narrowed to 0.9 × 1.6 = 1.44 along x2 (wider than
+// the capsule: it passes without squeezing), outlet cap at x1 = 7.7.
+const std::vector<std::string> kTinyConstriction = {
+    "channel.shape=\"constricted_duct\"", "channel.length=15.4", "channel.constriction_height=0.9",
+    "time.t_end=10", "output.every=0.5", "output.checkpoint_every=0.5"};
 
 TEST(ChannelRun, ACapsuleThatReachesAConstrictedDuctsOutletStopsThereNamingIt) {
   const fs::path dir = fs::temp_directory_path() / ("capsflow-channel-outlet-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   RunOptions o;
-  o.scene = parse_scene(kTinyConstriction, "constriction.toml");
+  o.scene = test::tiny_tube_scene(kTinyConstriction);
   o.output_dir = dir.string();
   o.threads = 2;
   EXPECT_EQ(Simulation(o).run(), 0);  // the capsule has passed the channel: a finished run

@@ -10,9 +10,7 @@
 // close-approach clouds too, and the stresslet); 1.3x the double pairs with AVX-512, 2.0x with
 // AVX2 (perf/fmm/RESULTS.md, "Single-precision pairs"). Sources must not coincide with targets (no
 // r = 0 test). Without a single-precision vector type: direct_sum with one Newton step.
-#include <algorithm>
 #include <cstddef>
-#include <vector>
 
 #include "capsflow/fmm/direct_sum.hpp"
 #include "capsflow/fmm/p2p_mixed.hpp"

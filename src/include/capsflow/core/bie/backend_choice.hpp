@@ -69,7 +69,7 @@ const SingleLayerCrossoverRow& single_layer_crossover(double tolerance);
 
 // True when the single layer's far field sums single-precision pairs (tolerance >= 1e-5, builds
 // with AVX-512 or AVX2): every pair of the direct sum, the FMM's direct near field.
-bool uses_mixed_precision(FarFieldBackend b, double tolerance);
+bool uses_mixed_precision(double tolerance);
 
 // The double layer's FMM order, chosen by the error the second-kind solve sees: relative to the
 // density u in the nodal-area norm (gmres.hpp's contract: an error of at most ε‖u‖), where
